@@ -1,0 +1,369 @@
+"""Multimaterial node handling: contact, perfect bonds and imperfect interfaces.
+
+Reference: 000 = Nairn, CMES 2013 (imperfect interfaces in multimaterial MPM);
+002 = Nairn, numerical implementation of imperfect interfaces (Sec 2.4);
+004 = Nairn et al., MPM contact by logistic regression, two corrections per step.
+
+Data layout (shared with the MPM time loop, see mpm/LAYOUT.md): M material fields,
+one per body (field index = body index in ``case.bodies``), D = 2 or 3, N nodes with
+a flattened node index.  Nodal arrays are float64 and C-contiguous:
+
+* ``mass[N, M]``, ``momentum[N, M, D]``, ``force[N, M, D]``;
+* ``volume[N, M]`` = sum_p S_ip V_p (000 Eq 19; V_p is the particle volume, in 2D the
+  particle area times the out-of-plane thickness, so volumes are in mm^3);
+* ``volume_gradient[N, M, D]`` = sum_p G_ip V_p (000 Eq 33; points *out of* the field);
+* ``displacement[N, M, D]`` = sum_p S_ip m_p (x_p - x_p0) / m_i (000 Eq 13);
+* ``position[N, M, D]`` = sum_p S_ip m_p x_p / m_i (000 Eq 10);
+* ``cell = [dx, dy(, dz)]``; ``thickness`` is a float64 array of length 1 (planar 2D
+  thickness t, or 1.0 in 3D) or of length N (axisymmetric: the node radius r_i, with
+  V_p = A_p r_p per radian, 000 Sec 2.3).
+
+Call order in one time step (004 Sec 3.2, "two contact corrections per step"):
+
+1. extrapolate (P2G) -> ``correct_momentum(0, ...)`` (contact-corrected extrapolation,
+   004 Eq 26; changes momenta only, not forces);
+2. internal + external forces -> ``add_interface_forces(...)`` (000 Eq 17-27);
+3. momentum update p += f dt -> ``correct_momentum(1, ...)`` (004 Eq 31), which also adds
+   the contact force Delta p+ / dt to ``force`` so the particle acceleration uses
+   f_C,1 of 004 Eq 33-34;
+4. G2P with the corrected momenta and forces.
+
+Pairs of bodies without an entry in ``case.interfaces`` get ``options["default_law"]``
+(default ``"perfect"``: bodies that touch without a declared interface are bonded,
+the same continuum the FEM solver builds when it merges nodes; 004 Eq 34 shows a
+perfect pair reverts exactly to single-material MPM).  Other choices: ``"stick"``,
+``"frictionless"``, ``"none"``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mpm import multimaterial_kernels as _k
+from mpm.multimaterial_constants import (
+    HPERP_CODES, LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, N_PARAMS,
+    N_SETTINGS, NODE_OUT_COLUMNS, NORMAL_CODES, NORMAL_LR, NORMAL_RMVG, NORMAL_SN,
+    P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
+    S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
+    S_SEPARATION, S_SN_X, SEP_LR, SEPARATION_CODES,
+)
+from mpm.multimaterial_normals import (  # noqa: F401  (re-exported public normals)
+    h_perp, normal_ag, normal_avg, normal_mvg, normal_rmvg, normal_sn,
+)
+
+__all__ = [
+    "MultimaterialTables", "build_pair_tables", "correct_momentum", "add_interface_forces",
+    "empty_lr_arrays", "DEFAULT_OPTIONS", "NODE_OUT_COLUMNS",
+    "normal_sn", "normal_mvg", "normal_avg", "normal_ag", "normal_rmvg", "h_perp",
+]
+
+DEFAULT_OPTIONS: dict = {
+    "normal": "MVG",              # SN | MVG | AVG | AG | RMVG | LR
+    "normal_vector": None,        # SN: unit normal from the lower to the higher body index
+    "separation": "displacement",  # displacement (000 Eq 13) | offset (Eq 14) | LR (004 Eq 24)
+    "contact_offset": 0.8,        # delta_con = 0.8 h (000 Eq 14 with h = h_perp)
+    "area_correction": True,      # 000 Eq 20 (else A_i = Omega_i / h)
+    "h_perp": "ellipse_tangent",  # none | ellipse_tangent (000 Eq 22, method 1) | ellipse_normal
+    "force_limiting": True,       # 000 Eq 23-27
+    "edge_cutoff": 0.0,           # screen nodes with Omega_i < cutoff * cell volume (000 Sec 3)
+    "default_law": "perfect",     # law for body pairs not listed in case.interfaces
+    "rigid_bodies": (),           # names of rigid bodies (000 Eq 28-31)
+    "mass_tolerance": 1.0e-10,    # field present at a node if m_k > tol * m_total
+    "lump_conserve": True,        # restore momentum balance on 3+ material nodes
+}
+
+
+@dataclass
+class MultimaterialTables:
+    """Numeric description of all material pairs, built once per run.
+
+    ``law_kind[a, b]`` (int64, symmetric) holds a ``LAW_*`` code and
+    ``law_params[a, b, :]`` = (Dn_tension, Dt, Dn_compression, mu) in MPa/mm (inf =
+    perfect direction).  ``settings`` holds the method switches (slots ``S_*`` in
+    :mod:`mpm.multimaterial_constants`), ``rigid[M]`` flags rigid fields (000 Eq 28-31).
+    ``node_zone[N]`` (or empty) indexes ``zone_pairs[Z, 2]``, ``zone_kind[Z]``,
+    ``zone_params[Z, 4]``: a node inside an ``InterfacePair.zones`` shape uses that law
+    for that pair (002 Fig 6 two-zone Dn).
+    """
+
+    law_kind: np.ndarray
+    law_params: np.ndarray
+    settings: np.ndarray
+    rigid: np.ndarray
+    node_zone: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    zone_pairs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
+    zone_kind: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    zone_params: np.ndarray = field(default_factory=lambda: np.zeros((0, N_PARAMS)))
+    body_names: tuple = ()
+
+    @property
+    def n_materials(self) -> int:
+        return int(self.law_kind.shape[0])
+
+    @property
+    def uses_lr(self) -> bool:
+        """True when normals or separations come from logistic regression (004 Sec 3.1)."""
+        return (int(self.settings[S_NORMAL]) == NORMAL_LR
+                or int(self.settings[S_SEPARATION]) == SEP_LR)
+
+    @property
+    def has_interfaces(self) -> bool:
+        """True if some pair (or zone) is an imperfect interface needing forces."""
+        return bool(np.any(self.law_kind == LAW_IMPERFECT) or np.any(self.zone_kind == LAW_IMPERFECT))
+
+
+def _err(msg: str) -> Exception:
+    try:
+        from interfaces.errors import CaseError
+        return CaseError(msg)
+    except ImportError:  # pragma: no cover - interfaces always present in the repo
+        return ValueError(msg)
+
+
+def _law_to_numbers(law, where: str) -> tuple[int, np.ndarray]:
+    """Map an interface-law object (interfaces.laws) to (LAW_* code, params[4])."""
+    params = np.zeros(N_PARAMS)
+    if isinstance(law, str):
+        name = law.strip().lower()
+        if name == "perfect":
+            return LAW_PERFECT, params
+        if name == "stick":
+            return LAW_STICK, params
+        if name == "frictionless":
+            return LAW_FRICTION, params
+        if name == "none":
+            return LAW_NONE, params
+        raise _err(f"{where} must be one of 'perfect', 'stick', 'frictionless', 'none', got {law!r}")
+    cls = type(law).__name__
+    if cls == "StickContact":
+        return LAW_STICK, params
+    if cls == "CoulombFriction":
+        mu = float(law.mu)
+        if not (mu >= 0.0 and math.isfinite(mu)):
+            raise _err(f"{where}.mu must be a finite number >= 0, got {law.mu!r}")
+        params[P_MU] = mu
+        return LAW_FRICTION, params
+    if cls in ("LinearInterface", "BilinearNormalInterface"):
+        if cls == "LinearInterface":
+            dn_t = dn_c = float(law.Dn)
+        else:
+            dn_t = float(law.Dn_tension)
+            dn_c = float(law.Dn_compression)
+        dt_ = float(law.Dt)
+        for nm, v in (("Dn", dn_t), ("Dt", dt_), ("Dn_compression", dn_c)):
+            if math.isnan(v) or v < 0.0:
+                raise _err(f"{where}.{nm} must be >= 0 (math.inf = perfect) for MPM, got {v}")
+        params[P_DN_TENSION], params[P_DT], params[P_DN_COMPRESSION] = dn_t, dt_, dn_c
+        if math.isinf(dn_t) and math.isinf(dn_c) and math.isinf(dt_):
+            return LAW_PERFECT, params
+        return LAW_IMPERFECT, params
+    raise _err(f"{where}: unsupported interface law {cls}; expected LinearInterface, "
+               "BilinearNormalInterface, StickContact or CoulombFriction")
+
+
+def _merged_options(options: dict | None) -> dict:
+    opts = dict(DEFAULT_OPTIONS)
+    for key, val in (options or {}).items():
+        if key in opts:
+            opts[key] = val
+    return opts
+
+
+def build_pair_tables(case, options: dict | None = None,
+                      node_coordinates: np.ndarray | None = None) -> MultimaterialTables:
+    """Build the numeric pair tables for one run (Python level, called once).
+
+    ``case.bodies`` fixes the field order; ``case.interfaces`` gives the law of each
+    listed pair (``InterfacePair(a, b, law, zones)``); unlisted pairs get
+    ``options["default_law"]``.  ``options`` keys (unknown keys are ignored so the
+    caller can pass its whole MPM option dict): see :data:`DEFAULT_OPTIONS`.
+    ``node_coordinates[N, D]`` is needed only when some pair has ``zones``.
+    Raises ``CaseError`` naming the offending option or pair.
+    """
+    opts = _merged_options(options)
+    names = [b.name for b in case.bodies]
+    m = len(names)
+    if m == 0:
+        raise _err("case.bodies must list at least one body")
+    dim = int(getattr(case, "dimension", 2))
+
+    settings = np.zeros(N_SETTINGS)
+    normal = str(opts["normal"]).upper() if opts["normal"] is not None else "MVG"
+    if normal not in NORMAL_CODES:
+        raise _err(f"mpm option normal must be one of {sorted(NORMAL_CODES)}, got {opts['normal']!r}")
+    settings[S_NORMAL] = NORMAL_CODES[normal]
+    sep = str(opts["separation"])
+    sep = "LR" if sep.upper() == "LR" else sep.lower()
+    if sep not in SEPARATION_CODES:
+        raise _err(f"mpm option separation must be one of {sorted(SEPARATION_CODES)}, got {opts['separation']!r}")
+    settings[S_SEPARATION] = SEPARATION_CODES[sep]
+    hp = str(opts["h_perp"]).lower()
+    if hp not in HPERP_CODES:
+        raise _err(f"mpm option h_perp must be one of {sorted(HPERP_CODES)}, got {opts['h_perp']!r}")
+    settings[S_HPERP] = HPERP_CODES[hp]
+    settings[S_AREA_CORRECTION] = 1.0 if bool(opts["area_correction"]) else 0.0
+    settings[S_FORCE_LIMIT] = 1.0 if bool(opts["force_limiting"]) else 0.0
+    settings[S_LUMP_CONSERVE] = 1.0 if bool(opts["lump_conserve"]) else 0.0
+    settings[S_EDGE_CUTOFF] = _number("edge_cutoff", opts["edge_cutoff"], 0.0, 1.0)
+    settings[S_CONTACT_OFFSET] = _number("contact_offset", opts["contact_offset"], 0.0, 2.0)
+    settings[S_MASS_TOL] = _number("mass_tolerance", opts["mass_tolerance"], 0.0, 1.0e-2)
+
+    if settings[S_NORMAL] == NORMAL_SN:
+        vec = opts["normal_vector"]
+        if vec is None:
+            raise _err("mpm option normal='SN' needs normal_vector (from the lower to the higher body index)")
+        v = np.asarray(vec, dtype=float).ravel()
+        if v.size != dim or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0.0:
+            raise _err(f"mpm option normal_vector must be a nonzero finite vector of {dim} numbers, got {vec!r}")
+        settings[S_SN_X:S_SN_X + dim] = v / np.linalg.norm(v)
+
+    rigid = np.zeros(m, dtype=np.int64)
+    for rname in opts["rigid_bodies"] or ():
+        if rname not in names:
+            raise _err(f"mpm option rigid_bodies: unknown body {rname!r}; bodies are {names}")
+        rigid[names.index(rname)] = 1
+    if settings[S_NORMAL] == NORMAL_RMVG and not rigid.any():
+        raise _err("mpm option normal='RMVG' needs at least one body in rigid_bodies")
+
+    kind = np.full((m, m), LAW_NONE, dtype=np.int64)
+    params = np.zeros((m, m, N_PARAMS))
+    dkind, dparams = _law_to_numbers(opts["default_law"], "mpm option default_law")
+    for a in range(m):
+        for b in range(m):
+            if a != b:
+                kind[a, b] = dkind
+                params[a, b] = dparams
+
+    zone_pairs, zone_kind, zone_params, zone_shapes = [], [], [], []
+    for ip, pair in enumerate(getattr(case, "interfaces", []) or []):
+        where = f"interfaces[{ip}]"
+        for side in ("a", "b"):
+            if getattr(pair, side) not in names:
+                raise _err(f"{where}.{side} = {getattr(pair, side)!r} is not a body; bodies are {names}")
+        ia, ib = names.index(pair.a), names.index(pair.b)
+        if ia == ib:
+            raise _err(f"{where}: a and b must be different bodies, got {pair.a!r} twice")
+        code, pr = _law_to_numbers(pair.law, f"{where}.law")
+        kind[ia, ib] = kind[ib, ia] = code
+        params[ia, ib] = params[ib, ia] = pr
+        for iz, (shape, zlaw) in enumerate(getattr(pair, "zones", None) or []):
+            zc, zp = _law_to_numbers(zlaw, f"{where}.zones[{iz}].law")
+            zone_pairs.append((ia, ib))
+            zone_kind.append(zc)
+            zone_params.append(zp)
+            zone_shapes.append(shape)
+    if rigid.any():
+        for r in np.flatnonzero(rigid):
+            for a in range(m):
+                if a != r and kind[a, r] == LAW_IMPERFECT and rigid[a]:
+                    raise _err("two rigid bodies cannot share an imperfect interface")
+
+    tables = MultimaterialTables(kind, params, settings, rigid, body_names=tuple(names))
+    if zone_shapes:
+        if node_coordinates is None:
+            raise _err("interfaces with zones need node_coordinates in build_pair_tables")
+        xyz = np.asarray(node_coordinates, dtype=float)
+        node_zone = np.full(xyz.shape[0], -1, dtype=np.int64)
+        for iz in range(len(zone_shapes) - 1, -1, -1):  # first listed zone wins
+            node_zone[np.asarray(zone_shapes[iz].contains(xyz), dtype=bool)] = iz
+        tables.node_zone = node_zone
+        tables.zone_pairs = np.asarray(zone_pairs, dtype=np.int64).reshape(-1, 2)
+        tables.zone_kind = np.asarray(zone_kind, dtype=np.int64)
+        tables.zone_params = np.asarray(zone_params, dtype=float).reshape(-1, N_PARAMS)
+    return tables
+
+
+def _number(name: str, value, low: float, high: float) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise _err(f"mpm option {name} must be a number in [{low:g}, {high:g}], got {value!r}") from None
+    if not (low <= v <= high):
+        raise _err(f"mpm option {name} must be in [{low:g}, {high:g}], got {v:g}")
+    return v
+
+
+def empty_lr_arrays(n_nodes: int, n_materials: int, dim: int) -> tuple[np.ndarray, np.ndarray]:
+    """Placeholder (normal, separation) arrays when LR is not used (zero-sized)."""
+    return np.zeros((0, n_materials, dim)), np.zeros((0, n_materials))
+
+
+def _thickness_array(thickness) -> np.ndarray:
+    t = np.ascontiguousarray(np.atleast_1d(np.asarray(thickness, dtype=np.float64)))
+    return t
+
+
+def _check_lr(tables: MultimaterialTables, lr, n, m, d):
+    if lr is None:
+        if tables.uses_lr:
+            raise _err("normal/separation 'LR' needs the lr=(normal, separation) arrays from "
+                       "mpm.multimaterial_lr.lr_normals_separations for this step")
+        return empty_lr_arrays(n, m, d)
+    return lr
+
+
+def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: np.ndarray,
+                     volume: np.ndarray, volume_gradient: np.ndarray, displacement: np.ndarray,
+                     position: np.ndarray, cell: np.ndarray, tables: MultimaterialTables,
+                     dt: float, thickness=1.0, lr=None) -> int:
+    """Contact / perfect-bond momentum correction on multimaterial nodes (004 Eq 26-34).
+
+    ``phase`` 0: after the initial extrapolation (004 Eq 26, Delta p^alpha; momenta
+    only).  ``phase`` 1: after the momentum update (004 Eq 31, Delta p^alpha+); also
+    adds Delta p^alpha+ / dt to ``force`` (004 Eq 33 f_C,1) so the particle
+    acceleration is consistent.  Works in place on ``momentum`` (and ``force``).
+
+    Per pair law: perfect -> centre-of-mass velocity (000 Eq 7-8); stick/friction ->
+    only if approaching (000 Eq 9, Delta p . n < 0) and touching (separation <= 0,
+    000 Eq 12-14 or 004 Eq 24), with Coulomb friction by 004 Eq 8-10 (ERRATA 7, 13);
+    imperfect interfaces -> only their perfect (inf) directions here (002 Sec 2.4),
+    the finite directions get forces in :func:`add_interface_forces`.  Nodes with 3+
+    materials lump the others into a virtual material (000 Sec 2.6, 004 Eq 50); rigid
+    fields follow 000 Eq 28-31.  In phase 1 the separation is advanced to the end of
+    the step, delta + dt (v_b - v_a).  Returns the number of nodes changed.
+    """
+    n, m = mass.shape
+    d = momentum.shape[2]
+    lr_normal, lr_sep = _check_lr(tables, lr, n, m, d)
+    return _k.correct_momentum_kernel(
+        int(phase), mass, momentum, force, volume, volume_gradient, displacement, position,
+        np.asarray(cell, dtype=np.float64), _thickness_array(thickness), tables.law_kind,
+        tables.law_params, tables.settings, tables.rigid, tables.node_zone, tables.zone_pairs,
+        tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt))
+
+
+def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndarray,
+                         volume_gradient: np.ndarray, displacement: np.ndarray,
+                         position: np.ndarray, cell: np.ndarray, thickness,
+                         tables: MultimaterialTables, dt: float, force: np.ndarray,
+                         node_out: np.ndarray | None = None, lr=None) -> float:
+    """Imperfect-interface forces on multimaterial nodes (000 Eq 17-27, 002 Eq 37-39).
+
+    For every node where an imperfect-interface pair meets: jump [u] = u_b - u_a
+    (000 Eq 11/13, or positions minus the contact offset, Eq 14), split along the
+    normal n (a -> b); T_n = Dn [u_n] (Dn_compression when [u_n] < 0, bilinear law of
+    002 Sec 2.4), T_t = Dt [u_t]; force on a = (T_n n + T_t t) A_i, on b the opposite.
+    A_i by 000 Eq 20 (ERRATA 8) with dx replaced by h_perp (Eq 22, ERRATA 9); finite
+    directions are capped at the velocity-equalizing force of 000 Eq 26-27 (then
+    flagged perfect for this step, zero energy); perfect (inf) directions get no force
+    (they are momentum-corrected).  Nodes with Omega_i < edge_cutoff * cell volume
+    are skipped.  Adds to ``force`` in place; ``force`` may already hold the other
+    nodal forces, which enter the Delta f term of Eq 27.
+    Returns U = sum_i 1/2 (Dn [u_n]^2 + Dt [u_t]^2) A_i (ERRATA 10).  If ``node_out``
+    (N, NODE_OUT_COLUMNS) is given it is overwritten with per-node jump, traction,
+    normal, area, energy and status (columns OUT_* in mpm.multimaterial_constants).
+    """
+    n, m = mass.shape
+    d = momentum.shape[2]
+    lr_normal, lr_sep = _check_lr(tables, lr, n, m, d)
+    if node_out is None:
+        node_out = np.zeros((0, NODE_OUT_COLUMNS))
+    elif node_out.shape != (n, NODE_OUT_COLUMNS):
+        raise ValueError(f"node_out must have shape ({n}, {NODE_OUT_COLUMNS}), got {node_out.shape}")
+    return _k.interface_forces_kernel(
+        mass, momentum, volume, volume_gradient, displacement, position,
+        np.asarray(cell, dtype=np.float64), _thickness_array(thickness), tables.law_kind,
+        tables.law_params, tables.settings, tables.rigid, tables.node_zone, tables.zone_pairs,
+        tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt), force, node_out)

@@ -1,0 +1,595 @@
+"""numba kernels for multimaterial nodes: contact corrections and interface forces.
+
+Public entry points live in :mod:`mpm.multimaterial` (thin wrappers that unpack the
+tables); the kernels here loop over nodes in compiled code.  Equation numbers:
+000 = Nairn CMES 2013, 002 = Nairn imperfect interfaces (Sec 2.4), 004 = Nairn et al.
+(logistic regression, two corrections per step).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mpm.multimaterial_constants import (
+    HPERP_NONE, LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, NORMAL_AG,
+    NORMAL_AVG, NORMAL_LR, NORMAL_MVG, NORMAL_RMVG, NORMAL_SN, OUT_AREA, OUT_ENERGY,
+    OUT_JUMP_N, OUT_JUMP_T, OUT_NX, OUT_STATUS, OUT_TRACTION_N, OUT_TRACTION_T,
+    P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
+    S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
+    S_SEPARATION, S_SN_X, SEP_DISPLACEMENT, SEP_LR, SEP_OFFSET, STATUS_CONTACT,
+    STATUS_INTERFACE, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_SCREENED,
+)
+from mpm.multimaterial_normals import (
+    any_tangent, h_perp, normal_ag, normal_avg, normal_mvg, normal_rmvg, normal_sn,
+)
+
+
+# ---------------------------------------------------------------------------
+# small helpers
+# ---------------------------------------------------------------------------
+@njit(cache=True)
+def _dot(u, v) -> float:
+    s = 0.0
+    for k in range(u.shape[0]):
+        s += u[k] * v[k]
+    return s
+
+
+@njit(cache=True)
+def _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law):
+    """Law code of the pair (a, b) at node i; fills ``law`` with its 4 parameters.
+    A node inside a zone of that pair uses the zone's law (002 Fig 6)."""
+    if node_zone.shape[0] > 0:
+        z = node_zone[i]
+        if z >= 0:
+            za = zone_pairs[z, 0]
+            zb = zone_pairs[z, 1]
+            if (za == a and zb == b) or (za == b and zb == a):
+                for k in range(4):
+                    law[k] = zone_params[z, k]
+                return zone_kind[z]
+    for k in range(4):
+        law[k] = params[a, b, k]
+    return kind[a, b]
+
+
+@njit(cache=True)
+def _present_fields(mass_i, tol, present) -> int:
+    """Indices of fields with m_k > tol * m_total at one node; returns their count."""
+    mtot = 0.0
+    for k in range(mass_i.shape[0]):
+        mtot += mass_i[k]
+    npres = 0
+    if not (mtot > 0.0):
+        return 0
+    for k in range(mass_i.shape[0]):
+        if mass_i[k] > tol * mtot and mass_i[k] > 0.0:
+            present[npres] = k
+            npres += 1
+    return npres
+
+
+@njit(cache=True)
+def _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield, p_b, f_b, g_b, x_b):
+    """Quantities of the partner field b, or of the virtual material lumping every
+    present field except a (000 Sec 2.2, 004 Eq 50) when ``b_only`` < 0.
+    Returns (m_b, Omega_b); fills p_b, f_b, g_b and x_b (mass-weighted, 000 Eq 11)."""
+    d = p_b.shape[0]
+    for k in range(d):
+        p_b[k] = 0.0
+        f_b[k] = 0.0
+        g_b[k] = 0.0
+        x_b[k] = 0.0
+    m_b = 0.0
+    om_b = 0.0
+    for j in range(npres):
+        c = present[j]
+        if c == a or (b_only >= 0 and c != b_only):
+            continue
+        mc = mass[i, c]
+        m_b += mc
+        om_b += vol[i, c]
+        for k in range(d):
+            p_b[k] += mom[i, c, k]
+            f_b[k] += force[i, c, k]
+            g_b[k] += grad[i, c, k]
+            x_b[k] += mc * xfield[i, c, k]
+    if m_b > 0.0:
+        for k in range(d):
+            x_b[k] /= m_b
+    return m_b, om_b
+
+
+@njit(cache=True)
+def _largest_partner(i, a, present, npres, vol, rigid) -> int:
+    """The other non-rigid field with the most volume (000 Sec 2.6 step 2)."""
+    best = -1
+    bestv = -1.0
+    for j in range(npres):
+        c = present[j]
+        if c == a or rigid[c] != 0:
+            continue
+        if vol[i, c] > bestv:
+            bestv = vol[i, c]
+            best = c
+    return best
+
+
+@njit(cache=True)
+def _node_normal(i, a, b_law, g_a, g_b, om_a, om_b, a_rigid, b_rigid, settings, lr_normal, out) -> bool:
+    """Unit normal from a to b by the selected method (000 Sec 2.5, 004 Eq 13, LR)."""
+    method = int(settings[S_NORMAL])
+    if method == NORMAL_SN:
+        return normal_sn(settings[S_SN_X:S_SN_X + out.shape[0]], a, b_law, out)
+    if method == NORMAL_MVG:
+        return normal_mvg(g_a, g_b, out)
+    if method == NORMAL_AVG:
+        return normal_avg(om_a, g_a, om_b, g_b, out)
+    if method == NORMAL_AG:
+        return normal_ag(g_a, g_b, out)
+    if method == NORMAL_RMVG:
+        return normal_rmvg(g_a, g_b, a_rigid, b_rigid, out)
+    # NORMAL_LR: precomputed per (node, material) by mpm.multimaterial_lr
+    s = 0.0
+    for k in range(out.shape[0]):
+        out[k] = lr_normal[i, a, k]
+        s += out[k] * out[k]
+    if not (s > 0.0):
+        return False
+    s = 1.0 / math.sqrt(s)
+    for k in range(out.shape[0]):
+        out[k] *= s
+    return True
+
+
+@njit(cache=True)
+def _jump(i, a, x_a, x_b, n, cell, settings, lr_sep, jump, t_hat) -> float:
+    """Separation vector delta = x_b - x_a (000 Eq 11, 13) corrected by the contact
+    offset (Eq 14, delta_con = factor * h_perp) or replaced along n by the LR
+    separation (004 Eq 24).  Writes the corrected jump vector into ``jump`` and a unit
+    tangent along its tangential part (000 Eq 15) into ``t_hat``; returns h_perp."""
+    d = n.shape[0]
+    for k in range(d):
+        jump[k] = x_b[k] - x_a[k]
+    dn = _dot(jump, n)
+    tn = 0.0
+    for k in range(d):
+        t_hat[k] = jump[k] - dn * n[k]
+        tn += t_hat[k] * t_hat[k]
+    if tn > 1.0e-28 * (cell[0] * cell[0]):
+        tn = 1.0 / math.sqrt(tn)
+        for k in range(d):
+            t_hat[k] *= tn
+    else:
+        any_tangent(n, t_hat)
+    hmethod = int(settings[S_HPERP])
+    h = h_perp(n, t_hat, cell, hmethod)
+    sep = int(settings[S_SEPARATION])
+    if sep == SEP_OFFSET:
+        hc = h if hmethod != HPERP_NONE else cell[0]
+        for k in range(d):
+            jump[k] -= settings[S_CONTACT_OFFSET] * hc * n[k]
+    elif sep == SEP_LR:
+        shift = lr_sep[i, a] - dn
+        for k in range(d):
+            jump[k] += shift * n[k]
+    return h
+
+
+# ---------------------------------------------------------------------------
+# contact / perfect-direction momentum change for one (a, b) interaction
+# ---------------------------------------------------------------------------
+@njit(cache=True)
+def _delta_p(code, law, dp0, n, dn, approaching, touching, out) -> bool:
+    """Momentum change of material a (000 Eq 7-16, 004 Eq 8-10, 002 Sec 2.4).
+
+    ``dp0`` = m_a v_c - p_a (000 Eq 7 / Eq 29 for rigid b), ``n`` the unit normal a->b,
+    ``dn`` the normal separation.  Returns False if nothing changes."""
+    d = n.shape[0]
+    for k in range(d):
+        out[k] = 0.0
+    if code == LAW_PERFECT:
+        for k in range(d):
+            out[k] = dp0[k]
+        return True
+    dpn = _dot(dp0, n)
+    if code == LAW_STICK or code == LAW_FRICTION:
+        if not (approaching and touching):
+            return False
+        if code == LAW_STICK:
+            for k in range(d):
+                out[k] = dp0[k]
+            return True
+        # Coulomb friction, 004 Eq 8-10 with S_slide = min(mu N_c, dp0.t/(A_c dt)):
+        # dp = (dp0.n) n + min(-mu dp0.n, dp0.t) t, t along the tangential part of dp0
+        tv = np.empty(d)
+        tt = 0.0
+        for k in range(d):
+            tv[k] = dp0[k] - dpn * n[k]
+            tt += tv[k] * tv[k]
+        tt = math.sqrt(tt)
+        slide = 0.0
+        if tt > 0.0:
+            slide = min(-law[P_MU] * dpn, tt) / tt
+        for k in range(d):
+            out[k] = dpn * n[k] + slide * tv[k]
+        return True
+    if code == LAW_IMPERFECT:
+        changed = False
+        dn_t = law[P_DN_TENSION]
+        dn_c = law[P_DN_COMPRESSION]
+        normal_perfect = False
+        if math.isinf(dn_t) and math.isinf(dn_c):
+            normal_perfect = True                 # bonded in the normal direction
+        elif dn < 0.0 and math.isinf(dn_c):
+            normal_perfect = approaching          # perfect in compression = contact
+        elif dn >= 0.0 and math.isinf(dn_t):
+            normal_perfect = True
+        if normal_perfect:
+            for k in range(d):
+                out[k] += dpn * n[k]
+            changed = True
+        if math.isinf(law[P_DT]):
+            for k in range(d):
+                out[k] += dp0[k] - dpn * n[k]
+            changed = True
+        return changed
+    return False
+
+
+@njit(cache=True)
+def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force, vol, grad, disp, pos,
+                    cell, tvol, code, law, settings, rigid_b, lr_normal, lr_sep, dt, out) -> bool:
+    """Momentum change of material a against b (or the lump of all others)."""
+    d = mom.shape[2]
+    if code == LAW_NONE:
+        return False
+    p_b = np.empty(d)
+    f_b = np.empty(d)
+    g_b = np.empty(d)
+    x_b = np.empty(d)
+    xfield = disp if int(settings[S_SEPARATION]) == SEP_DISPLACEMENT else pos
+    m_b, om_b = _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
+                          p_b, f_b, g_b, x_b)
+    m_a = mass[i, a]
+    dp0 = np.empty(d)
+    for k in range(d):
+        if rigid_b:                    # 000 Eq 28-29: v_c = v_b
+            dp0[k] = m_a * p_b[k] / m_b - mom[i, a, k]
+        else:                          # 000 Eq 7-8
+            dp0[k] = m_a * (mom[i, a, k] + p_b[k]) / (m_a + m_b) - mom[i, a, k]
+    if code == LAW_PERFECT:
+        return _delta_p(code, law, dp0, dp0, 0.0, True, True, out)
+    om_a = vol[i, a]
+    if om_a + om_b < settings[S_EDGE_CUTOFF] * tvol:      # edge-node screening (000 Sec 3)
+        return False
+    n = np.empty(d)
+    if not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings, lr_normal, n):
+        return False
+    jump = np.empty(d)
+    t_hat = np.empty(d)
+    _jump(i, a, xfield[i, a], x_b, n, cell, settings, lr_sep, jump, t_hat)
+    dn = _dot(jump, n)
+    if phase == 1:
+        # predict the separation at the end of the step with the updated velocities
+        rel = 0.0
+        for k in range(d):
+            rel += (p_b[k] / m_b - mom[i, a, k] / m_a) * n[k]
+        dn += dt * rel
+    approaching = _dot(dp0, n) < 0.0         # 000 Eq 9: dv.n < 0  <=>  dp_a.n < 0
+    touching = dn <= 0.0                     # 000 Eq 12-14, 004 Eq 15/24
+    return _delta_p(code, law, dp0, n, dn, approaching, touching, out)
+
+
+@njit(cache=True)
+def _cell_volume(cell, thick, i) -> float:
+    v = 1.0
+    for k in range(cell.shape[0]):
+        v *= cell[k]
+    if cell.shape[0] == 2:
+        v *= thick[i] if thick.shape[0] > 1 else thick[0]
+    return v
+
+
+@njit(cache=True)
+def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell, thick, kind, params,
+                            settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
+                            lr_normal, lr_sep, dt) -> int:
+    """Contact corrections on all multimaterial nodes (see mpm.multimaterial.correct_momentum)."""
+    n_nodes, m = mass.shape
+    d = mom.shape[2]
+    tol = settings[S_MASS_TOL]
+    conserve = settings[S_LUMP_CONSERVE] != 0.0
+    present = np.empty(m, dtype=np.int64)
+    dp = np.zeros((m, d))
+    touched = np.zeros(m, dtype=np.bool_)
+    law = np.empty(4)
+    one = np.empty(d)
+    inv_dt = 1.0 / dt if dt > 0.0 else 0.0
+    count = 0
+    for i in range(n_nodes):
+        npres = _present_fields(mass[i], tol, present)
+        if npres < 2:
+            continue
+        tvol = _cell_volume(cell, thick, i)
+        for j in range(npres):
+            touched[present[j]] = False
+            for k in range(d):
+                dp[present[j], k] = 0.0
+        # rigid partner (000 Eq 28-31): each non-rigid field against the largest rigid one
+        r = -1
+        rv = -1.0
+        for j in range(npres):
+            c = present[j]
+            if rigid[c] != 0 and vol[i, c] > rv:
+                rv = vol[i, c]
+                r = c
+        any_change = False
+        if r >= 0:
+            for j in range(npres):
+                a = present[j]
+                if rigid[a] != 0:
+                    continue
+                code = _pair_law(i, a, r, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+                if _interaction_dp(i, a, r, r, present, npres, phase, mass, mom, force, vol, grad, disp,
+                                   pos, cell, tvol, code, law, settings, True, lr_normal, lr_sep, dt, one):
+                    touched[a] = True
+                    for k in range(d):
+                        dp[a, k] = one[k]
+                    any_change = True
+        elif npres == 2:
+            a = present[0]
+            b = present[1]
+            code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+            if _interaction_dp(i, a, b, b, present, npres, phase, mass, mom, force, vol, grad, disp, pos,
+                               cell, tvol, code, law, settings, False, lr_normal, lr_sep, dt, one):
+                touched[a] = True
+                touched[b] = True
+                for k in range(d):
+                    dp[a, k] = one[k]
+                    dp[b, k] = -one[k]
+                any_change = True
+        else:
+            # 3+ materials: each against the virtual lump of all others (000 Sec 2.6,
+            # 004 Eq 50), law of the partner with the most volume
+            mtot = 0.0
+            for j in range(npres):
+                mtot += mass[i, present[j]]
+            for j in range(npres):
+                a = present[j]
+                b_law = _largest_partner(i, a, present, npres, vol, rigid)
+                code = _pair_law(i, a, b_law, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+                if _interaction_dp(i, a, -1, b_law, present, npres, phase, mass, mom, force, vol, grad,
+                                   disp, pos, cell, tvol, code, law, settings, False, lr_normal, lr_sep,
+                                   dt, one):
+                    touched[a] = True
+                    for k in range(d):
+                        dp[a, k] = one[k]
+                    any_change = True
+            if any_change and conserve:
+                # a common velocity shift restores sum dp = 0 without changing any
+                # relative velocity, hence without disturbing the contact laws
+                for k in range(d):
+                    s = 0.0
+                    for j in range(npres):
+                        s += dp[present[j], k]
+                    for j in range(npres):
+                        c = present[j]
+                        dp[c, k] -= mass[i, c] / mtot * s
+                for j in range(npres):
+                    touched[present[j]] = True
+        if not any_change:
+            continue
+        count += 1
+        for j in range(npres):
+            c = present[j]
+            if not touched[c]:
+                continue
+            for k in range(d):
+                mom[i, c, k] += dp[c, k]
+                if phase == 1:
+                    force[i, c, k] += dp[c, k] * inv_dt     # 004 Eq 33, f_C,1 = dp+/dt
+    return count
+
+
+# ---------------------------------------------------------------------------
+# imperfect interface forces (000 Eq 17-27, 002 Eq 37-39)
+# ---------------------------------------------------------------------------
+@njit(cache=True)
+def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol, grad, disp, pos,
+                     cell, tvol, law, settings, rigid_b, lr_normal, lr_sep, dt, f_out, node_out,
+                     write_out) -> float:
+    """Interface force on material a from b (or the lump of the others); returns U_i."""
+    d = mom.shape[2]
+    for k in range(d):
+        f_out[k] = 0.0
+    p_b = np.empty(d)
+    f_b = np.empty(d)
+    g_b = np.empty(d)
+    x_b = np.empty(d)
+    xfield = disp if int(settings[S_SEPARATION]) == SEP_DISPLACEMENT else pos
+    m_b, om_b = _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
+                          p_b, f_b, g_b, x_b)
+    m_a = mass[i, a]
+    om_a = vol[i, a]
+    omega = om_a + om_b
+    if omega < settings[S_EDGE_CUTOFF] * tvol:             # edge-node screening
+        if write_out:
+            node_out[i, OUT_STATUS] = STATUS_SCREENED
+        return 0.0
+    n = np.empty(d)
+    if not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings, lr_normal, n):
+        return 0.0
+    jump = np.empty(d)
+    t_hat = np.empty(d)
+    h = _jump(i, a, xfield[i, a], x_b, n, cell, settings, lr_sep, jump, t_hat)
+    # contact area, 000 Eq 20 (ERRATA 8) with dx -> h_perp (Eq 22); volumes carry t
+    if settings[S_AREA_CORRECTION] != 0.0:
+        area = math.sqrt(2.0 * omega * min(om_a, om_b)) / h
+    else:
+        area = omega / h
+    dn = _dot(jump, n)
+    jt = np.empty(d)
+    for k in range(d):
+        jt[k] = jump[k] - dn * n[k]
+    dn_stiff = law[P_DN_COMPRESSION] if dn < 0.0 else law[P_DN_TENSION]   # bilinear, 002 Sec 2.4
+    dt_stiff = law[P_DT]
+    n_finite = not math.isinf(dn_stiff)
+    t_finite = not math.isinf(dt_stiff)
+    fn = dn_stiff * dn * area if n_finite else 0.0
+    ft = np.zeros(d)
+    if t_finite:
+        for k in range(d):
+            ft[k] = dt_stiff * jt[k] * area
+    status = STATUS_INTERFACE
+    if dn < 0.0:
+        status += STATUS_CONTACT
+    e_n = 0.5 * dn_stiff * dn * dn * area if n_finite else 0.0
+    e_t = 0.5 * dt_stiff * _dot(jt, jt) * area if t_finite else 0.0
+    if settings[S_FORCE_LIMIT] != 0.0 and dt > 0.0:
+        # 000 Eq 26-27: the force that brings a and b to the centre-of-mass position
+        fmax = np.empty(d)
+        if rigid_b:
+            m_red = m_a
+        else:
+            m_red = m_a * m_b / (m_a + m_b)
+        for k in range(d):
+            if rigid_b:
+                dp0 = m_a * p_b[k] / m_b - mom[i, a, k]
+                dfk = -force[i, a, k]
+            else:
+                dp0 = m_red * (p_b[k] / m_b - mom[i, a, k] / m_a)
+                dfk = (m_a * f_b[k] - m_b * force[i, a, k]) / (m_a + m_b)
+            fmax[k] = 2.0 * m_red / (dt * dt) * jump[k] + 2.0 * dp0 / dt + dfk
+        fmax_n = _dot(fmax, n)
+        if n_finite and abs(fn) > abs(fmax_n):
+            fn = fmax_n
+            e_n = 0.0
+            status += STATUS_LIMITED_N
+        if t_finite:
+            fmt = np.empty(d)
+            for k in range(d):
+                fmt[k] = fmax[k] - fmax_n * n[k]
+            if _dot(ft, ft) > _dot(fmt, fmt):
+                for k in range(d):
+                    ft[k] = fmt[k]
+                e_t = 0.0
+                status += STATUS_LIMITED_T
+    for k in range(d):
+        f_out[k] = fn * n[k] + ft[k]
+    energy = e_n + e_t
+    if write_out:
+        if d == 2:
+            jt_s = -jump[0] * n[1] + jump[1] * n[0]
+            tt_s = (-ft[0] * n[1] + ft[1] * n[0]) / area if area > 0.0 else 0.0
+        else:
+            jt_s = math.sqrt(_dot(jt, jt))
+            tt_s = math.sqrt(_dot(ft, ft)) / area if area > 0.0 else 0.0
+        node_out[i, OUT_JUMP_N] = dn
+        node_out[i, OUT_JUMP_T] = jt_s
+        node_out[i, OUT_TRACTION_N] = fn / area if area > 0.0 else 0.0
+        node_out[i, OUT_TRACTION_T] = tt_s
+        for k in range(d):
+            node_out[i, OUT_NX + k] = n[k]
+        node_out[i, OUT_AREA] = area
+        node_out[i, OUT_ENERGY] = energy
+        node_out[i, OUT_STATUS] = status
+    return energy
+
+
+@njit(cache=True)
+def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, params, settings, rigid,
+                            node_zone, zone_pairs, zone_kind, zone_params, lr_normal, lr_sep, dt,
+                            force, node_out) -> float:
+    """Interface forces on all multimaterial nodes (see mpm.multimaterial.add_interface_forces)."""
+    n_nodes, m = mass.shape
+    d = mom.shape[2]
+    tol = settings[S_MASS_TOL]
+    conserve = settings[S_LUMP_CONSERVE] != 0.0
+    write_out = node_out.shape[0] == n_nodes
+    if write_out:
+        node_out[:, :] = 0.0
+    present = np.empty(m, dtype=np.int64)
+    fadd = np.zeros((m, d))
+    law = np.empty(4)
+    one = np.empty(d)
+    total = 0.0
+    for i in range(n_nodes):
+        npres = _present_fields(mass[i], tol, present)
+        if npres < 2:
+            continue
+        tvol = _cell_volume(cell, thick, i)
+        for j in range(npres):
+            for k in range(d):
+                fadd[present[j], k] = 0.0
+        r = -1
+        rv = -1.0
+        for j in range(npres):
+            c = present[j]
+            if rigid[c] != 0 and vol[i, c] > rv:
+                rv = vol[i, c]
+                r = c
+        if r >= 0:
+            # rigid partner: force on the non-rigid fields only, energy per interaction
+            for j in range(npres):
+                a = present[j]
+                if rigid[a] != 0:
+                    continue
+                code = _pair_law(i, a, r, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+                if code != LAW_IMPERFECT:
+                    continue
+                total += _interface_force(i, a, r, r, present, npres, mass, mom, force, vol, grad, disp,
+                                          pos, cell, tvol, law, settings, True, lr_normal, lr_sep, dt, one,
+                                          node_out, write_out)
+                for k in range(d):
+                    fadd[a, k] = one[k]
+        elif npres == 2:
+            a = present[0]
+            b = present[1]
+            code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+            if code != LAW_IMPERFECT:
+                continue
+            total += _interface_force(i, a, b, b, present, npres, mass, mom, force, vol, grad, disp, pos,
+                                      cell, tvol, law, settings, False, lr_normal, lr_sep, dt, one,
+                                      node_out, write_out)
+            for k in range(d):
+                fadd[a, k] = one[k]
+                fadd[b, k] = -one[k]       # 002 Eq 39: equal and opposite
+        else:
+            # 3+ materials: each against the lump of the others (000 Sec 2.6); the
+            # energy of a node is counted once: half the sum over its materials
+            mtot = 0.0
+            for j in range(npres):
+                mtot += mass[i, present[j]]
+            e_node = 0.0
+            any_force = False
+            for j in range(npres):
+                a = present[j]
+                b_law = _largest_partner(i, a, present, npres, vol, rigid)
+                code = _pair_law(i, a, b_law, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+                if code != LAW_IMPERFECT:
+                    continue
+                e_node += _interface_force(i, a, -1, b_law, present, npres, mass, mom, force, vol, grad,
+                                           disp, pos, cell, tvol, law, settings, False, lr_normal, lr_sep,
+                                           dt, one, node_out, write_out and not any_force)
+                any_force = True
+                for k in range(d):
+                    fadd[a, k] = one[k]
+            total += 0.5 * e_node
+            if write_out and any_force:
+                node_out[i, OUT_ENERGY] = 0.5 * e_node
+            if any_force and conserve:
+                for k in range(d):
+                    s = 0.0
+                    for j in range(npres):
+                        s += fadd[present[j], k]
+                    for j in range(npres):
+                        c = present[j]
+                        fadd[c, k] -= mass[i, c] / mtot * s
+        for j in range(npres):
+            c = present[j]
+            for k in range(d):
+                force[i, c, k] += fadd[c, k]
+    return total
