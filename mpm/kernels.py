@@ -1,0 +1,361 @@
+"""Compiled per-particle and per-node kernels of one explicit MPM time step (2D).
+
+Layout of the nodal arrays: mpm/LAYOUT.md. Step order (004 Sec 3.2, Eq 26-34):
+P2G -> contact correction (phase 0) -> interface forces -> momentum update with grid
+damping and nodal boundary conditions -> contact correction (phase 1) -> G2P (FLIP,
+optional PIC blend) -> stress update (USL) . With ``usf`` the stress update uses the
+phase-0 corrected extrapolated velocities before the internal force is extrapolated.
+
+P2G scatters serially (numba has no CPU atomics; a serial scatter is race-free and,
+at 2 cores shared by several jobs, as fast as per-thread grids plus a reduction).
+3D kernels are an addition with the same signatures (``shape_3d``, ``p2g_3d``, ...).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .shape import shape_2d_work
+
+# -------------------------------------------------------------------- P2G ----
+
+
+@njit(cache=True)
+def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, load_scale,
+           origin, cell, nn, lp, kind, multi, internal,
+           mass, mom, force, volume, volgrad, disp, pos):
+    """Particle-to-grid extrapolation (000 Eq 5-6, 10, 13; 004 Eq 5, 29).
+
+    Zeroes and fills mass, momentum and force (internal -V sigma.grad S if
+    ``internal``, plus S x ramped particle external force); with ``multi`` also
+    volume, volume gradient, mass-weighted displacement and position (divided by the
+    field mass at the end). Returns -1, or the index of a particle whose support
+    left the grid.
+    """
+    mass[:] = 0.0
+    mom[:] = 0.0
+    force[:] = 0.0
+    if multi:
+        volume[:] = 0.0
+        volgrad[:] = 0.0
+        disp[:] = 0.0
+        pos[:] = 0.0
+    idx = np.empty(9, np.int64)
+    S = np.empty(9)
+    G = np.empty((9, 2))
+    wx = np.empty(3)
+    dwx = np.empty(3)
+    wy = np.empty(3)
+    dwy = np.empty(3)
+    for p in range(x.shape[0]):
+        c = shape_2d_work(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G,
+                          wx, dwx, wy, dwy)
+        if c < 0:
+            return p
+        f = field[p]
+        m = pmass[p]
+        V = pvol[p]
+        mvx = m * v[p, 0]
+        mvy = m * v[p, 1]
+        fx = fext[p, 0] * load_scale
+        fy = fext[p, 1] * load_scale
+        if internal:
+            sxx = stress[p, 0]
+            syy = stress[p, 1]
+            sxy = stress[p, 2]
+        else:
+            sxx = 0.0
+            syy = 0.0
+            sxy = 0.0
+        for k in range(c):
+            n = idx[k]
+            s = S[k]
+            gx = G[k, 0]
+            gy = G[k, 1]
+            mass[n, f] += s * m
+            mom[n, f, 0] += s * mvx
+            mom[n, f, 1] += s * mvy
+            force[n, f, 0] += s * fx - V * (sxx * gx + sxy * gy)
+            force[n, f, 1] += s * fy - V * (sxy * gx + syy * gy)
+            if multi:
+                volume[n, f] += s * V
+                volgrad[n, f, 0] += gx * V
+                volgrad[n, f, 1] += gy * V
+                disp[n, f, 0] += s * m * (x[p, 0] - x0[p, 0])
+                disp[n, f, 1] += s * m * (x[p, 1] - x0[p, 1])
+                pos[n, f, 0] += s * m * x[p, 0]
+                pos[n, f, 1] += s * m * x[p, 1]
+    if multi:
+        for n in range(mass.shape[0]):
+            for f in range(mass.shape[1]):
+                if mass[n, f] > 0.0:
+                    inv = 1.0 / mass[n, f]
+                    for d in range(2):
+                        disp[n, f, d] *= inv
+                        pos[n, f, d] *= inv
+    return -1
+
+
+@njit(cache=True)
+def p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force):
+    """Add the internal force -V_p sigma_p . grad S_ip to ``force`` (USF second pass)."""
+    idx = np.empty(9, np.int64)
+    S = np.empty(9)
+    G = np.empty((9, 2))
+    wx = np.empty(3)
+    dwx = np.empty(3)
+    wy = np.empty(3)
+    dwy = np.empty(3)
+    for p in range(x.shape[0]):
+        c = shape_2d_work(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G,
+                          wx, dwx, wy, dwy)
+        f = field[p]
+        V = pvol[p]
+        for k in range(c):
+            n = idx[k]
+            force[n, f, 0] -= V * (stress[p, 0] * G[k, 0] + stress[p, 2] * G[k, 1])
+            force[n, f, 1] -= V * (stress[p, 2] * G[k, 0] + stress[p, 1] * G[k, 1])
+
+
+@njit(cache=True)
+def multimaterial_nodes(mass):
+    """Indices of nodes where two or more fields have mass > 0 (mpm/LAYOUT.md)."""
+    N, M = mass.shape
+    out = np.empty(N, np.int64)
+    c = 0
+    if M < 2:
+        return out[:0]
+    for n in range(N):
+        k = 0
+        for f in range(M):
+            if mass[n, f] > 0.0:
+                k += 1
+        if k >= 2:
+            out[c] = n
+            c += 1
+    return out[:c]
+
+
+# ------------------------------------------------------------ grid update ----
+
+
+@njit(cache=True)
+def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel):
+    """Momentum update p+ = p + (f - alpha p) dt (004 Eq 30) with grid damping alpha,
+    then nodal velocity conditions per field: p+ = m v_bc and f += (m v_bc - p+)/dt.
+
+    ``force`` keeps the damping and the reaction terms so that the FLIP update sees
+    the acceleration of the grid. Returns (energy dissipated by damping this step,
+    work done by the prescribed velocities this step).
+    """
+    N, M, D = mom.shape
+    diss = 0.0
+    for n in range(N):
+        for f in range(M):
+            m = mass[n, f]
+            if m <= 0.0:
+                continue
+            for d in range(D):
+                p = mom[n, f, d]
+                fd = force[n, f, d] - alpha * p
+                diss += alpha * p * p / m * dt
+                force[n, f, d] = fd
+                mom[n, f, d] = p + fd * dt
+    work = 0.0
+    for b in range(bc_node.size):
+        n = bc_node[b]
+        f = bc_field[b]
+        d = bc_comp[b]
+        m = mass[n, f]
+        if m <= 0.0:
+            continue
+        pn = m * bc_vel[b]
+        reaction = (pn - mom[n, f, d]) / dt
+        force[n, f, d] += reaction
+        mom[n, f, d] = pn
+        work += reaction * bc_vel[b] * dt
+    return diss, work
+
+
+# -------------------------------------------------------- G2P and stress ----
+
+
+@njit(cache=True, inline="always")
+def _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol):
+    """Incremental small strain d_eps = sym(L) dt (engineering shear), sigma += C d_eps."""
+    e0 = L00 * dt
+    e1 = L11 * dt
+    e2 = (L01 + L10) * dt
+    strain[p, 0] += e0
+    strain[p, 1] += e1
+    strain[p, 2] += e2
+    for a in range(3):
+        stress[p, a] += C[f, a, 0] * e0 + C[f, a, 1] * e1 + C[f, a, 2] * e2
+    pvol[p] *= 1.0 + e0 + e1
+
+
+@njit(cache=True)
+def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, load_scale, C,
+           origin, cell, nn, lp, kind, dt, pic, update_stress,
+           mass, mom, force):
+    """Grid-to-particle update (004 Eq 28, 32 with f^{C,1}) and USL stress update.
+
+    a = force/mass and v+ = momentum/mass of the particle's own field;
+    V <- (1 - pic)(V + dt S a) + pic S v+; x <- x + dt S v+; L = sum v+ (x) grad S.
+    Returns (kinetic energy, strain energy, work of the external forces this step,
+    index of a particle that left the grid or -1).
+    """
+    idx = np.empty(9, np.int64)
+    S = np.empty(9)
+    G = np.empty((9, 2))
+    wx = np.empty(3)
+    dwx = np.empty(3)
+    wy = np.empty(3)
+    dwy = np.empty(3)
+    ke = 0.0
+    U = 0.0
+    work = 0.0
+    lost = -1
+    for p in range(x.shape[0]):
+        c = shape_2d_work(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G,
+                          wx, dwx, wy, dwy)
+        if c < 0:
+            lost = p
+            continue
+        f = field[p]
+        ax = 0.0
+        ay = 0.0
+        vx = 0.0
+        vy = 0.0
+        L00 = 0.0
+        L01 = 0.0
+        L10 = 0.0
+        L11 = 0.0
+        for k in range(c):
+            n = idx[k]
+            m = mass[n, f]
+            if m <= 0.0:
+                continue
+            inv = 1.0 / m
+            s = S[k]
+            ax += s * force[n, f, 0] * inv
+            ay += s * force[n, f, 1] * inv
+            vnx = mom[n, f, 0] * inv
+            vny = mom[n, f, 1] * inv
+            vx += s * vnx
+            vy += s * vny
+            L00 += vnx * G[k, 0]
+            L01 += vnx * G[k, 1]
+            L10 += vny * G[k, 0]
+            L11 += vny * G[k, 1]
+        work += load_scale * (fext[p, 0] * vx + fext[p, 1] * vy) * dt
+        x[p, 0] += dt * vx
+        x[p, 1] += dt * vy
+        v[p, 0] = (1.0 - pic) * (v[p, 0] + dt * ax) + pic * vx
+        v[p, 1] = (1.0 - pic) * (v[p, 1] + dt * ay) + pic * vy
+        ke += 0.5 * pmass[p] * (v[p, 0] * v[p, 0] + v[p, 1] * v[p, 1])
+        if update_stress:
+            _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol)
+        U += 0.5 * pvol0[p] * (stress[p, 0] * strain[p, 0] + stress[p, 1] * strain[p, 1]
+                               + stress[p, 2] * strain[p, 2])
+    return ke, U, work, lost
+
+
+@njit(cache=True)
+def usf_stress_2d(x, pvol, stress, strain, field, C, origin, cell, nn, lp, kind, dt,
+                  mass, mom):
+    """USF stress update: L from the (contact-corrected) extrapolated velocities."""
+    idx = np.empty(9, np.int64)
+    S = np.empty(9)
+    G = np.empty((9, 2))
+    wx = np.empty(3)
+    dwx = np.empty(3)
+    wy = np.empty(3)
+    dwy = np.empty(3)
+    for p in range(x.shape[0]):
+        c = shape_2d_work(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G,
+                          wx, dwx, wy, dwy)
+        f = field[p]
+        L00 = 0.0
+        L01 = 0.0
+        L10 = 0.0
+        L11 = 0.0
+        for k in range(c):
+            n = idx[k]
+            m = mass[n, f]
+            if m <= 0.0:
+                continue
+            vnx = mom[n, f, 0] / m
+            vny = mom[n, f, 1] / m
+            L00 += vnx * G[k, 0]
+            L01 += vnx * G[k, 1]
+            L10 += vny * G[k, 0]
+            L11 += vny * G[k, 1]
+        _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol)
+
+
+# ------------------------------------------------ single-material chunk ----
+
+
+@njit(cache=True)
+def ramp(t, ramp_time):
+    """Linear load ramp: t / ramp_time up to 1."""
+    if ramp_time <= 0.0 or t >= ramp_time:
+        return 1.0
+    return t / ramp_time
+
+
+@njit(cache=True)
+def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
+                 x, v, pmass, pvol, pvol0, stress, strain, field, x0, fext, C,
+                 origin, cell, nn, lp, kind,
+                 mass, mom, force, volume, volgrad, disp, pos,
+                 bc_node, bc_field, bc_comp, bc_vel, bc_tend,
+                 hist, ke_prev):
+    """``nsteps`` complete time steps of a run without multimaterial nodes.
+
+    The whole step sequence stays compiled; Python only runs between output
+    intervals. ``hist[s] = (t, kinetic, strain, work_ext, dissipated, work_bc)``
+    after step s (energies of that step for the work terms). ``bc_vel`` applies
+    until ``bc_tend`` (then 0: a ramped prescribed displacement). Kinetic damping
+    zeroes the particle velocities whenever the kinetic energy has just peaked.
+    Returns (number of steps done, index of a lost particle or -1, last kinetic
+    energies (ke_prev updated in place)).
+    """
+    vel = np.empty_like(bc_vel)
+    t = t0
+    for s in range(nsteps):
+        scale = ramp(t, ramp_time)
+        lost = p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, scale,
+                      origin, cell, nn, lp, kind, False, not usf,
+                      mass, mom, force, volume, volgrad, disp, pos)
+        if lost >= 0:
+            return s, lost
+        if usf:
+            usf_stress_2d(x, pvol, stress, strain, field, C, origin, cell, nn, lp, kind, dt,
+                          mass, mom)
+            p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force)
+        for b in range(bc_vel.size):
+            vel[b] = bc_vel[b] if t < bc_tend[b] else 0.0
+        diss, wbc = grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, vel)
+        ke, U, work, lost = g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext,
+                                   scale, C, origin, cell, nn, lp, kind, dt, pic, not usf,
+                                   mass, mom, force)
+        if lost >= 0:
+            return s, lost
+        t += dt
+        if kinetic_damping and ke < ke_prev[0] and ke_prev[0] >= ke_prev[1]:
+            v[:] = 0.0
+            diss += ke
+            ke = 0.0
+        ke_prev[1] = ke_prev[0]
+        ke_prev[0] = ke
+        hist[s, 0] = t
+        hist[s, 1] = ke
+        hist[s, 2] = U
+        hist[s, 3] = work
+        hist[s, 4] = diss
+        hist[s, 5] = wbc
+        if not np.isfinite(ke):
+            return s + 1, -1
+    return nsteps, -1

@@ -1,0 +1,71 @@
+"""Specimen measurements from MPM particles: stiffness (002 Eq 43-45), interface jump profile."""
+from __future__ import annotations
+
+import numpy as np
+
+from interfaces.errors import CaseError
+
+from .particles import side_particles
+
+
+def stiffness_quantities(case, particles, loads: list[dict], stored_energy: float, result) -> dict:
+    """``stiffness`` k = P / (<u_load> - <u_support>) (002 Eq 43) and ``stiffness_energy``
+    k = P^2 / (2U) (Eq 45, U = strain + interface energy) for ``case.measurements['stiffness']``.
+
+    <u> are averages over the particles in the first row along each listed side (the
+    particle analogue of the paper's average end displacements); P is the total
+    applied traction force in ``direction`` on the load sides. Empty dict if the case
+    asks for no stiffness; a warning if no traction acts on the load sides.
+    """
+    spec = (case.measurements or {}).get("stiffness")
+    if not spec:
+        return {}
+    D = particles.x.shape[1]
+    names = "xyz"[:D]
+    direction = spec.get("direction", "y")
+    if direction not in names:
+        raise CaseError(f"measurements.stiffness.direction must be one of {list(names)}, got {direction!r}")
+    d = names.index(direction)
+    u = particles.x - particles.x0
+
+    def mean_u(sides, key):
+        if not sides:
+            raise CaseError(f"measurements.stiffness.{key} must list [body, side] pairs")
+        idx = np.concatenate([side_particles(case, particles, b, s)[0] for b, s in sides])
+        return float(np.mean(u[idx, d])), idx.size
+
+    u_load, n_load = mean_u(spec.get("load", []), "load")
+    u_sup, n_sup = mean_u(spec.get("support", []), "support")
+    load_sides = {(b, s) for b, s in spec.get("load", [])}
+    P = float(sum(ld["force"][d] for ld in loads if (ld["body"], ld["side"]) in load_sides))
+    out = {"load_displacement": u_load, "support_displacement": u_sup, "load": P}
+    if P == 0.0:
+        result.warn("mpm: no traction acts on the stiffness load sides; stiffness not computed")
+        return out
+    delta = u_load - u_sup
+    out["stiffness"] = P / delta if delta != 0.0 else float("inf")
+    out["stiffness_energy"] = P * P / (2.0 * stored_energy) if stored_energy > 0 else float("inf")
+    return out
+
+
+def interface_profile(grid, node_out: np.ndarray) -> dict | None:
+    """Jump and traction at the interface nodes of the last step (helper columns of
+    mpm.multimaterial_constants OUT_*), ordered along the interface.
+
+    ``s`` is the coordinate along the mean interface tangent (from the node normals).
+    """
+    from .multimaterial_constants import (OUT_AREA, OUT_ENERGY, OUT_JUMP_N, OUT_JUMP_T,
+                                          OUT_NX, OUT_NY, OUT_TRACTION_N, OUT_TRACTION_T)
+    rows = np.flatnonzero(node_out[:, OUT_AREA] > 0.0)
+    if rows.size == 0:
+        return None
+    X = grid.node_positions()[rows]
+    n = node_out[rows][:, [OUT_NX, OUT_NY]].mean(axis=0)
+    t = np.array([-n[1], n[0]]) / max(np.linalg.norm(n), 1e-300)
+    s = X @ t
+    order = np.argsort(s, kind="stable")
+    r = rows[order]
+    return {"s": s[order] - s[order][0], "x": X[order, 0], "y": X[order, 1],
+            "jump_n": node_out[r, OUT_JUMP_N], "jump_t": node_out[r, OUT_JUMP_T],
+            "traction_n": node_out[r, OUT_TRACTION_N], "traction_t": node_out[r, OUT_TRACTION_T],
+            "area": node_out[r, OUT_AREA], "energy": node_out[r, OUT_ENERGY]}

@@ -1,0 +1,78 @@
+"""Solver options of :func:`mpm.solve`: defaults, merging with the case, validation."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from interfaces.errors import CaseError, check_number
+
+from .shape import SHAPE_CODES
+
+#: core options (the multimaterial options of mpm.multimaterial.DEFAULT_OPTIONS are
+#: passed through to build_pair_tables unchanged)
+DEFAULTS: dict = {
+    "cell": None,            # mm, scalar or per axis (required here or in case.discretization.mpm)
+    "ppc": 2,                # particles per cell per axis
+    "shape": "ugimp",        # ugimp | linear
+    "cfl": 0.5,              # dt = cfl * min(cell) / max wave speed
+    "dt": None,              # explicit time step (overrides cfl)
+    "damping": "grid",       # grid | kinetic | none
+    "alpha": None,           # grid damping (1/s); None = 2 omega_1 (critical for the estimated lowest mode)
+    "pic": 0.0,              # PIC fraction blended into the FLIP update (0 = pure FLIP)
+    "update": "usl",         # usl | usf
+    "ramp_time": None,       # s; default: the traction ramp_time, else one estimated period T1
+    "max_time": None,        # s; default ramp + 40 T1
+    "tol": 1e-7,             # stop when kinetic / (strain + interface) energy < tol over T1/2 after the ramp
+    "padding": 3,            # empty cells around the bodies
+    "progress": None,        # None = auto (runs longer than ~5 s), True / False
+    "vtk_dir": None,         # write a VTU series + .pvd there
+    "vtk_frames": 20,        # number of VTU frames over the run
+    "blowup": 20.0,          # divergence if kinetic + strain energy > blowup x (work done + tiny)
+    "history_points": 2000,  # energy history samples kept in the Result
+}
+
+
+def merge(case, overrides: dict) -> dict:
+    """Defaults <- case.discretization['mpm'] <- keyword overrides, then validated."""
+    opts = dict(DEFAULTS)
+    opts.update(case.options_for("mpm", **overrides))
+    D = case.dimension
+    if opts["cell"] is None:
+        raise CaseError("discretization.mpm.cell (mm) is required: pass cell=... to mpm.solve "
+                        "or set it in the case")
+    cell = np.broadcast_to(np.asarray(opts["cell"], float), (D,)).copy() \
+        if np.ndim(opts["cell"]) == 0 else np.asarray(opts["cell"], float)
+    if cell.shape != (D,) or not np.all(np.isfinite(cell)) or np.any(cell <= 0):
+        raise CaseError(f"mpm option cell must be > 0 (one value or {D}), got {opts['cell']!r}")
+    opts["cell"] = cell
+    shape = str(opts["shape"]).lower()
+    if shape not in SHAPE_CODES:
+        raise CaseError(f"mpm option shape must be one of {sorted(SHAPE_CODES)}, got {opts['shape']!r}")
+    opts["shape"] = shape
+    opts["cfl"] = check_number("mpm option cfl", opts["cfl"], low=0, high=1, low_open=True)
+    if opts["dt"] is not None:
+        opts["dt"] = check_number("mpm option dt", opts["dt"], low=0, low_open=True)
+    damping = str(opts["damping"]).lower()
+    if damping not in ("grid", "kinetic", "none"):
+        raise CaseError(f"mpm option damping must be 'grid', 'kinetic' or 'none', got {opts['damping']!r}")
+    opts["damping"] = damping
+    if opts["alpha"] is not None:
+        opts["alpha"] = check_number("mpm option alpha", opts["alpha"], low=0)
+    opts["pic"] = check_number("mpm option pic", opts["pic"], low=0, high=1)
+    upd = str(opts["update"]).lower()
+    if upd not in ("usl", "usf"):
+        raise CaseError(f"mpm option update must be 'usl' or 'usf', got {opts['update']!r}")
+    opts["update"] = upd
+    for key in ("ramp_time", "max_time"):
+        if opts[key] is not None:
+            opts[key] = check_number(f"mpm option {key}", opts[key], low=0, low_open=(key == "max_time"))
+    opts["tol"] = check_number("mpm option tol", opts["tol"], low=0, high=1, low_open=True)
+    opts["padding"] = int(check_number("mpm option padding", opts["padding"], low=2, high=100))
+    opts["vtk_frames"] = int(check_number("mpm option vtk_frames", opts["vtk_frames"], low=1, high=1e5))
+    opts["blowup"] = check_number("mpm option blowup", opts["blowup"], low=1, low_open=True)
+    opts["history_points"] = int(check_number("mpm option history_points", opts["history_points"],
+                                              low=10, high=1e7))
+    if opts["max_time"] is not None and not math.isfinite(opts["max_time"]):
+        raise CaseError("mpm option max_time must be finite")
+    return opts

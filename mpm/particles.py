@@ -1,0 +1,166 @@
+"""Material points generated from the case bodies, and particle traction loads.
+
+Each grid cell overlapping a body is filled with ppc x ppc (x ppc in 3D) particles at
+the centres of the sub-cells; a particle belongs to the body that contains its centre
+(holes excluded). Particle volume = cell volume / ppc^D (x thickness in 2D), mass =
+rho x volume. The particle field (= material field of mpm/LAYOUT.md) is the body index.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from interfaces.errors import CaseError
+
+from .grid import Grid
+
+
+@dataclass
+class Particles:
+    """Particle state arrays (P particles, dimension D, Voigt size nv)."""
+
+    x: np.ndarray       # (P, D) current position
+    x0: np.ndarray      # (P, D) initial position
+    v: np.ndarray       # (P, D) velocity
+    mass: np.ndarray    # (P,)
+    volume0: np.ndarray  # (P,) initial volume (x thickness in 2D)
+    volume: np.ndarray  # (P,) current volume
+    field: np.ndarray   # (P,) int64 body (= material field) index
+    stress: np.ndarray  # (P, nv) Voigt stress [xx, yy, xy]
+    strain: np.ndarray  # (P, nv) Voigt small strain, engineering shear
+    fext: np.ndarray    # (P, D) full (un-ramped) external force on the particle
+    spacing: np.ndarray  # (D,) particle spacing = cell / ppc
+    lp: np.ndarray      # (D,) particle half-width (uGIMP)
+
+    @property
+    def P(self) -> int:
+        return int(self.mass.size)
+
+
+def parse_ppc(ppc, D: int) -> np.ndarray:
+    """Particles per cell per axis from an int or a sequence; validated."""
+    arr = np.broadcast_to(np.asarray(ppc), (D,)) if np.ndim(ppc) == 0 else np.asarray(ppc)
+    if arr.shape != (D,) or not np.all(np.equal(np.mod(arr, 1), 0)) or np.any(arr < 1) \
+            or np.any(arr > 8):
+        raise CaseError(f"mpm option ppc must be an integer in [1, 8] (or {D} of them), got {ppc!r}")
+    return arr.astype(np.int64)
+
+
+def generate(case, grid: Grid, ppc) -> Particles:
+    """Fill every body of ``case`` with particles on ``grid`` (``ppc`` per axis per cell)."""
+    D = grid.D
+    ppc = parse_ppc(ppc, D)
+    spacing = grid.cell / ppc
+    thickness = case.thickness if D == 2 else 1.0
+    vol = float(np.prod(spacing)) * thickness
+    xs, fields, masses = [], [], []
+    taken = None
+    for b, body in enumerate(case.bodies):
+        lo, hi = (np.asarray(a, float) for a in body.shape.bounds())
+        c0 = np.floor((lo - grid.origin) / grid.cell + 1e-9).astype(np.int64)
+        c1 = np.ceil((hi - grid.origin) / grid.cell - 1e-9).astype(np.int64)
+        axes = [grid.origin[d] + spacing[d] * (np.arange(c0[d] * ppc[d], c1[d] * ppc[d]) + 0.5)
+                for d in range(D)]
+        pts = np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
+        keep = body.shape.contains(pts)
+        for hole in body.holes:
+            keep &= ~hole.contains(pts)
+        pts = pts[keep]
+        if taken is not None and taken.size:
+            # a point claimed by an earlier body stays there (overlapping bodies)
+            key = np.round((pts - grid.origin) / spacing - 0.5).astype(np.int64)
+            dup = _member(key, taken, ppc * (grid.nn - 1))
+            pts = pts[~dup]
+        if pts.shape[0] == 0:
+            raise CaseError(f"bodies[{b}] ({body.name}) contains no particle centre at cell "
+                            f"{grid.cell.tolist()} and ppc {ppc.tolist()}: refine the grid")
+        key = np.round((pts - grid.origin) / spacing - 0.5).astype(np.int64)
+        taken = key if taken is None else np.vstack([taken, key])
+        rho = case.materials[body.material].rho
+        xs.append(pts)
+        fields.append(np.full(pts.shape[0], b, np.int64))
+        masses.append(np.full(pts.shape[0], rho * vol))
+    x = np.ascontiguousarray(np.vstack(xs))
+    P = x.shape[0]
+    nv = 3 if D == 2 else 6
+    return Particles(
+        x=x, x0=x.copy(), v=np.zeros((P, D)), mass=np.concatenate(masses),
+        volume0=np.full(P, vol), volume=np.full(P, vol), field=np.concatenate(fields),
+        stress=np.zeros((P, nv)), strain=np.zeros((P, nv)), fext=np.zeros((P, D)),
+        spacing=spacing, lp=0.5 * spacing)
+
+
+def _member(key: np.ndarray, table: np.ndarray, extent: np.ndarray) -> np.ndarray:
+    """Rows of integer ``key`` present in ``table`` (both (n, D)), via linear codes."""
+    mult = np.cumprod(np.concatenate([[1], extent[:-1] + 1]))
+    return np.isin(key @ mult, table @ mult)
+
+
+def side_particles(case, particles: Particles, body_name: str, side: str) -> tuple[np.ndarray, float]:
+    """Indices of the particles of ``body_name`` in the first row along ``side``.
+
+    A particle is on the side when its centre lies within half a particle spacing of
+    it (measured along the side's normal). Returns (indices, side length or area).
+    """
+    names = [b.name for b in case.bodies]
+    if body_name not in names:
+        raise CaseError(f"boundary body {body_name!r} is not one of the bodies {names}")
+    b = names.index(body_name)
+    shape = case.bodies[b].shape
+    if not hasattr(shape, "edge_mask"):
+        raise CaseError(f"boundary side {side!r} of body {body_name!r}: sides exist only on "
+                        f"Rectangle/Box shapes, got {type(shape).__name__}")
+    normal = np.asarray(shape.edge_normal(side), float)
+    tol = 0.5 * float(np.abs(normal) @ particles.spacing) * (1.0 + 1e-6)
+    own = np.flatnonzero(particles.field == b)
+    mask = shape.edge_mask(particles.x0[own], side, tol)
+    idx = own[mask]
+    if idx.size == 0:
+        raise CaseError(f"no particle of body {body_name!r} lies on side {side!r}")
+    return idx, float(shape.edge_length(side))
+
+
+def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
+    """Set ``particles.fext`` from the case's traction boundary conditions.
+
+    A loaded particle gets traction x its edge length (spacing along the side) x
+    thickness (2D) or x its face area (3D); the per-particle shares are normalised so
+    that the total force is exactly traction x side length x thickness (rotated sides
+    do not align with the particle lattice). Returns one record per traction
+    condition: particle indices, total force vector and ramp time.
+    """
+    thickness = case.thickness if D == 2 else 1.0
+    loads = []
+    for k, bc in enumerate(case.boundary_conditions):
+        if bc.kind != "traction":
+            continue
+        idx, length = side_particles(case, particles, bc.body, bc.side)
+        traction = _vector(bc, D, f"boundary_conditions[{k}]")
+        shape = case.body(bc.body).shape
+        normal = np.asarray(shape.edge_normal(bc.side), float)
+        # particle extent along the side: the spacing in the tangential directions
+        extent = np.prod(np.where(np.abs(normal) > 0.5, 1.0, particles.spacing)) if D == 3 else \
+            abs(normal[1]) * particles.spacing[0] + abs(normal[0]) * particles.spacing[1]
+        share = np.full(idx.size, extent)
+        share *= length / share.sum()
+        total = traction * length * thickness
+        particles.fext[idx] += np.outer(share * thickness, traction)
+        loads.append({"particles": idx, "force": total, "ramp_time": bc.ramp_time,
+                      "body": bc.body, "side": bc.side})
+    return loads
+
+
+def _vector(bc, D: int, where: str) -> np.ndarray:
+    """Full D-vector from a boundary condition's components/value."""
+    names = "xyz"[:D]
+    out = np.zeros(D)
+    comps = list(bc.components)
+    vals = list(np.atleast_1d(bc.value))
+    if len(vals) != len(comps):
+        raise CaseError(f"{where}.value must have one entry per component {comps}, got {vals}")
+    for c, v in zip(comps, vals):
+        if c not in names:
+            raise CaseError(f"{where}.components entries must be in {list(names)}, got {c!r}")
+        out[names.index(c)] = float(v)
+    return out

@@ -1,0 +1,320 @@
+"""``mpm.solve``: explicit (multimaterial) MPM run of a Case to its quasi-static state.
+
+Step sequence (004 Sec 3.2, Eq 26-34; mpm/LAYOUT.md): P2G -> contact correction
+phase 0 -> imperfect-interface forces (000 Eq 17-27) -> momentum update with grid
+damping and nodal conditions -> contact correction phase 1 -> G2P (FLIP, PIC blend) ->
+stress update (USL; USF optional). Runs without multimaterial nodes execute whole
+chunks of steps inside one compiled loop (:func:`mpm.kernels.run_chunk_2d`).
+
+Loads are ramped linearly over ``ramp_time``; grid damping (or kinetic damping)
+removes the dynamic response so that the run settles on the static answer; the run
+stops when, after the ramp, kinetic energy stays below ``tol`` x (strain +
+interface energy) for half an estimated fundamental period, or at ``max_time``.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from interfaces.errors import CaseError, SolverError
+from interfaces.result import Result
+
+from . import kernels as K
+from .boundary import nodal_conditions
+from .grid import Grid, NodalFields
+from .measure import interface_profile, stiffness_quantities
+from .options import merge
+from .particles import apply_tractions, generate
+from .progress import ProgressBar
+from .shape import SHAPE_CODES
+from .vtk import write_vtk_series
+
+HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc", "interface")
+
+
+class Model:
+    """Everything a run needs: grid, particles, nodal fields, loads, conditions, tables."""
+
+    def __init__(self, case, opts: dict):
+        if case.dimension != 2:
+            raise CaseError(f"mpm: analysis {case.analysis!r} is not supported yet; the MPM "
+                            "core implements plane_stress and plane_strain (3D kernels are "
+                            "an addition with the same layout)")
+        if case.analysis not in ("plane_stress", "plane_strain"):
+            raise CaseError(f"mpm: analysis must be plane_stress or plane_strain, got {case.analysis!r}")
+        self.case = case
+        self.opts = opts
+        lo, hi = case.bounds()
+        self.grid = Grid.around(lo, hi, opts["cell"], opts["padding"])
+        self.kind = SHAPE_CODES[opts["shape"]]
+        self.particles = generate(case, self.grid, opts["ppc"])
+        if self.kind == SHAPE_CODES["linear"]:
+            self.particles.lp[:] = 0.0
+        self.loads = apply_tractions(case, self.particles, 2)
+        self.M = len(case.bodies)
+        self.nodal = NodalFields(self.grid.N, self.M, 2)
+        mats = [case.materials[b.material] for b in case.bodies]
+        self.C = np.ascontiguousarray(np.array([m.stiffness(case.analysis) for m in mats], float))
+        # time scales: CFL step and an estimated lowest period T1 = 4 L / c (fixed-free bar)
+        c_max = max(m.wave_speed(case.analysis) for m in mats)
+        c_min = min(math.sqrt(min(C[0, 0], C[1, 1]) / m.rho) for C, m in zip(self.C, mats))
+        self.dt = opts["dt"] or opts["cfl"] * float(np.min(self.grid.cell)) / c_max
+        length = float(np.max(hi - lo))
+        self.T1 = 4.0 * length / c_min
+        ramps = [ld["ramp_time"] for ld in self.loads if ld["ramp_time"] is not None]
+        self.ramp_time = opts["ramp_time"] if opts["ramp_time"] is not None else \
+            (max(ramps) if ramps else self.T1)
+        self.max_time = opts["max_time"] or self.ramp_time + 40.0 * self.T1
+        if opts["damping"] == "grid":
+            self.alpha = opts["alpha"] if opts["alpha"] is not None else 2.0 * (2.0 * math.pi / self.T1)
+        else:
+            self.alpha = 0.0
+        if self.alpha * self.dt > 0.5:
+            raise CaseError(f"mpm option alpha = {self.alpha:g} 1/s is too large for dt = {self.dt:g} s "
+                            "(alpha dt must be <= 0.5): lower alpha")
+        self.bcs = nodal_conditions(case, self.grid, self.ramp_time)
+        self.tables = None
+        self.node_out = None
+        if self.M > 1:
+            from . import multimaterial as mm
+            self.tables = mm.build_pair_tables(case, opts, node_coordinates=self.grid.node_positions())
+            self.node_out = np.zeros((self.grid.N, mm.NODE_OUT_COLUMNS))
+
+
+def solve(case, **options) -> Result:
+    """Run explicit multimaterial MPM on ``case`` and return a :class:`interfaces.Result`.
+
+    Options (defaults in :data:`mpm.options.DEFAULTS`, then ``case.discretization['mpm']``,
+    then these keywords): ``cell`` (mm), ``ppc``, ``shape`` (ugimp/linear), ``cfl`` or
+    ``dt``, ``damping`` (grid/kinetic/none) and ``alpha``, ``pic``, ``update``
+    (usl/usf), ``ramp_time``, ``max_time``, ``tol``, ``vtk_dir``, ``progress``; the
+    multimaterial options of :data:`mpm.multimaterial.DEFAULT_OPTIONS` (normal,
+    separation, area_correction, h_perp, force_limiting, edge_cutoff, default_law, ...).
+    Quantities: stiffness (002 Eq 43), stiffness_energy (Eq 45), strain_energy,
+    interface_energy, kinetic_energy, external_work, dissipated_energy.
+    """
+    t_start = time.perf_counter()
+    opts = merge(case, options)
+    model = Model(case, opts)
+    t_setup = time.perf_counter() - t_start
+    run = _Runner(model)
+    t0 = time.perf_counter()
+    run.run()
+    t_run = time.perf_counter() - t0
+    return _result(model, run, {"setup": t_setup, "run": t_run,
+                                "total": time.perf_counter() - t_start})
+
+
+class _Runner:
+    """Advances a :class:`Model` in output intervals; keeps histories and frames."""
+
+    def __init__(self, model: Model):
+        self.m = model
+        self.t = 0.0
+        self.steps = 0
+        self.hist_chunks: list[np.ndarray] = []
+        self.ke_prev = np.zeros(2)
+        self.frames = []
+        self.warnings: list[str] = []
+        self.stopped_by = "max_time"
+
+    # -- one interval ----------------------------------------------------------
+    def _advance(self, nsteps: int) -> np.ndarray:
+        m = self.m
+        pt, nd, bc = m.particles, m.nodal, m.bcs
+        hist = np.zeros((nsteps, len(HIST_COLUMNS)))
+        usf = m.opts["update"] == "usf"
+        kinetic = m.opts["damping"] == "kinetic"
+        if m.M == 1:
+            done, lost = K.run_chunk_2d(
+                nsteps, self.t, m.dt, m.ramp_time, m.alpha, kinetic, m.opts["pic"], usf,
+                pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
+                pt.x0, pt.fext, m.C, m.grid.origin, m.grid.cell, m.grid.nn, pt.lp, m.kind,
+                nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
+                nd.displacement, nd.position, bc.node, bc.field, bc.comp, bc.vel, bc.t_end,
+                hist, self.ke_prev)
+        else:
+            done, lost = self._advance_multimaterial(nsteps, hist, usf, kinetic)
+        self.steps += done
+        if done:
+            self.t = float(hist[done - 1, 0])
+        if lost >= 0:
+            raise SolverError(f"mpm: particle {lost} left the background grid at t = {self.t:.4g} s "
+                              f"(step {self.steps}): the run is unstable or deforms beyond the "
+                              "grid; reduce the time step (cfl), increase damping or lower Dn, "
+                              "or increase the padding option")
+        return hist[:done]
+
+    def _advance_multimaterial(self, nsteps, hist, usf, kinetic):
+        """Python-level step loop around compiled kernels for runs with 2+ fields."""
+        from . import multimaterial as mm
+        m = self.m
+        pt, nd, bc, g = m.particles, m.nodal, m.bcs, m.grid
+        thick = m.case.thickness
+        vel = np.empty_like(bc.vel)
+        with_interface = m.tables.has_interfaces
+        t = self.t
+        for s in range(nsteps):
+            scale = K.ramp(t, m.ramp_time)
+            lost = K.p2g_2d(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
+                            scale, g.origin, g.cell, g.nn, pt.lp, m.kind, True, not usf,
+                            nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
+                            nd.displacement, nd.position)
+            if lost >= 0:
+                return s, lost
+            multi = K.multimaterial_nodes(nd.mass).size > 0
+            args = (nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
+                    nd.displacement, nd.position, g.cell, m.tables, m.dt, thick)
+            if multi:
+                mm.correct_momentum(0, *args)
+            if usf:
+                K.usf_stress_2d(pt.x, pt.volume, pt.stress, pt.strain, pt.field, m.C, g.origin,
+                                g.cell, g.nn, pt.lp, m.kind, m.dt, nd.mass, nd.momentum)
+                K.p2g_internal_force_2d(pt.x, pt.volume, pt.stress, pt.field, g.origin, g.cell,
+                                        g.nn, pt.lp, m.kind, nd.force)
+            u_int = 0.0
+            if multi and with_interface:
+                u_int = mm.add_interface_forces(nd.mass, nd.momentum, nd.volume,
+                                                nd.volume_gradient, nd.displacement, nd.position,
+                                                g.cell, thick, m.tables, m.dt, nd.force,
+                                                m.node_out)
+            for b in range(bc.size):
+                vel[b] = bc.vel[b] if t < bc.t_end[b] else 0.0
+            diss, wbc = K.grid_update(nd.mass, nd.momentum, nd.force, m.dt, m.alpha,
+                                      bc.node, bc.field, bc.comp, vel)
+            if multi:
+                mm.correct_momentum(1, *args)
+            ke, U, work, lost = K.g2p_2d(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
+                                         pt.strain, pt.field, pt.fext, scale, m.C, g.origin,
+                                         g.cell, g.nn, pt.lp, m.kind, m.dt, m.opts["pic"],
+                                         not usf, nd.mass, nd.momentum, nd.force)
+            if lost >= 0:
+                return s, lost
+            t += m.dt
+            if kinetic and ke < self.ke_prev[0] and self.ke_prev[0] >= self.ke_prev[1]:
+                pt.v[:] = 0.0
+                diss += ke
+                ke = 0.0
+            self.ke_prev[1] = self.ke_prev[0]
+            self.ke_prev[0] = ke
+            hist[s] = (t, ke, U, work, diss, wbc, u_int)
+            if not math.isfinite(ke):
+                return s + 1, -1
+        return nsteps, -1
+
+    # -- whole run -------------------------------------------------------------
+    def run(self) -> None:
+        m = self.m
+        interval = max(1, int(math.ceil(0.25 * m.T1 / m.dt)))
+        total_steps = int(math.ceil(m.max_time / m.dt))
+        window = max(1, int(math.ceil(0.5 * m.T1 / m.dt)))
+        est_time = 1e-7 * m.particles.P * total_steps
+        show = m.opts["progress"] if m.opts["progress"] is not None else est_time > 5.0
+        bar = ProgressBar(f"mpm {m.case.name}", enabled=bool(show))
+        vtk_every = max(1, total_steps // m.opts["vtk_frames"]) if m.opts["vtk_dir"] else 0
+        if vtk_every:
+            interval = min(interval, vtk_every)
+            self._frame()
+        cum_work = cum_diss = 0.0
+        while self.steps < total_steps:
+            n = min(interval, total_steps - self.steps)
+            h = self._advance(n)
+            self.hist_chunks.append(h)
+            cum_work += h[:, 3].sum() + h[:, 5].sum()
+            cum_diss += h[:, 4].sum()
+            ke, U, ui = h[-1, 1], h[-1, 2], h[-1, 6]
+            if not (np.all(np.isfinite(h[:, 1:])) and math.isfinite(cum_work)):
+                raise SolverError(self._diverged("energies became NaN/inf"))
+            scale = abs(cum_work) + 1e-12 * (1.0 + U)
+            if h[:, 1].max() + U + ui > m.opts["blowup"] * scale and self.t > 0.05 * m.ramp_time:
+                raise SolverError(self._diverged(
+                    f"kinetic + stored energy {h[:, 1].max() + U + ui:.3g} exceeds "
+                    f"{m.opts['blowup']:g} x the work done {cum_work:.3g}"))
+            if vtk_every and (self.steps % vtk_every == 0 or self.steps >= total_steps):
+                self._frame()
+            bar.update(self.steps / total_steps, f"t={self.t:.3g}s KE/U={ke / max(U + ui, 1e-300):.2e}")
+            if self.t > m.ramp_time and self._settled(window):
+                self.stopped_by = "kinetic_energy"
+                break
+        bar.close(f"{self.steps} steps, stopped by {self.stopped_by}")
+        if self.stopped_by == "max_time":
+            self.warnings.append(
+                f"mpm: reached max_time = {m.max_time:.4g} s before kinetic energy fell below "
+                f"tol = {m.opts['tol']:g} x stored energy; increase max_time or damping")
+        if vtk_every and self.frames and self.frames[-1][0] < self.t:
+            self._frame()
+
+    def _settled(self, window: int) -> bool:
+        chunks, count = [], 0
+        for h in reversed(self.hist_chunks):
+            chunks.append(h)
+            count += h.shape[0]
+            if count >= window:
+                break
+        recent = np.vstack(chunks[::-1])[-window:]
+        if recent.shape[0] < window:
+            return False
+        stored = recent[-1, 2] + recent[-1, 6]
+        return stored > 0 and recent[:, 1].max() < self.m.opts["tol"] * stored
+
+    def _diverged(self, what: str) -> str:
+        return (f"mpm diverged at t = {self.t:.4g} s (step {self.steps}): {what}. Reduce the "
+                f"time step (cfl, now dt = {self.m.dt:.3g} s), increase damping (alpha = "
+                f"{self.m.alpha:.3g} 1/s) or lower the interface stiffness Dn/Dt")
+
+    def _frame(self) -> None:
+        pt = self.m.particles
+        self.frames.append((self.t, pt.x.copy(), {
+            "displacement": pt.x - pt.x0, "velocity": pt.v.copy(), "stress": pt.stress.copy(),
+            "material": pt.field.astype(np.int64)}))
+
+    def history(self) -> np.ndarray:
+        return np.vstack(self.hist_chunks) if self.hist_chunks else np.zeros((0, len(HIST_COLUMNS)))
+
+
+def _result(model: Model, run: _Runner, timings: dict) -> Result:
+    case, pt, opts = model.case, model.particles, model.opts
+    hist = run.history()
+    last = hist[-1] if hist.size else np.zeros(len(HIST_COLUMNS))
+    work = float(hist[:, 3].sum() + hist[:, 5].sum())
+    diss = float(hist[:, 4].sum())
+    strain_e, ke, u_int = float(last[2]), float(last[1]), float(last[6])
+    q = {"strain_energy": strain_e, "interface_energy": u_int, "kinetic_energy": ke,
+         "external_work": work, "dissipated_energy": diss,
+         "energy_balance_error": (work - strain_e - u_int - ke - diss) / max(abs(work), 1e-300)}
+    res = Result(method="mpm", case_name=case.name)
+    q.update(stiffness_quantities(case, pt, model.loads, strain_e + u_int, res))
+    res.quantities = q
+    res.fields = {"position": pt.x0.copy(), "displacement": pt.x - pt.x0,
+                  "stress": pt.stress.copy(), "strain": pt.strain.copy(),
+                  "material": pt.field.copy(), "velocity": pt.v.copy(),
+                  "volume": pt.volume0.copy()}
+    if model.node_out is not None and u_int != 0.0:
+        prof = interface_profile(model.grid, model.node_out)
+        if prof is not None:
+            res.profiles["interface_jump"] = prof
+    if opts["vtk_dir"]:
+        res.diagnostics["vtk_series"] = str(write_vtk_series(opts["vtk_dir"], run.frames,
+                                                            prefix=case.name))
+    step = max(1, hist.shape[0] // opts["history_points"])
+    res.timings = dict(timings)
+    res.timings["particle_steps_per_s"] = pt.P * run.steps / max(timings["run"], 1e-12)
+    res.diagnostics.update({
+        "time_steps": run.steps, "dt": model.dt, "time": run.t, "ramp_time": model.ramp_time,
+        "max_time": model.max_time, "T1_estimate": model.T1, "alpha": model.alpha,
+        "particles": pt.P, "nodes": model.grid.N, "cell": model.grid.cell.tolist(),
+        "ppc": opts["ppc"], "shape": opts["shape"], "stopped_by": run.stopped_by,
+        "history": {name: col[::step].tolist() for name, col in zip(HIST_COLUMNS, _cumulative(hist).T)},
+        "warnings": list(res.diagnostics.get("warnings", [])) + run.warnings,
+    })
+    return res
+
+
+def _cumulative(hist: np.ndarray) -> np.ndarray:
+    """History with the per-step work and dissipation columns summed up to each time."""
+    out = hist.copy()
+    for k in (3, 4, 5):
+        out[:, k] = np.cumsum(hist[:, k])
+    return out
