@@ -1,0 +1,385 @@
+"""The named cases of the papers, as functions returning a :class:`interfaces.Case`.
+
+Every builder takes keyword overrides (``Dt=5``, sizes, resolutions ...) and keeps the
+analytic reference (``case.analytic``) consistent with them. Units: mm, N, MPa, s,
+tonne/mm^3, Dn and Dt in MPa/mm.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from interfaces import (Body, BoundaryCondition, Box, Case, CaseError, InterfacePair, IsotropicElastic,
+                        LinearInterface, Polygon, Rectangle, Sphere, TransverselyIsotropicElastic)
+from interfaces.errors import check_number
+from interfaces.laws import BilinearNormalInterface
+from interfaces.units import G_PER_CM3, MS, US
+
+WOOD_DENSITY = 0.5 * G_PER_CM3
+"""Wood strand density (not given in 000/002; irrelevant for their static answers)."""
+
+
+def wood_strand(fiber=(0.0, 1.0)) -> TransverselyIsotropicElastic:
+    """Wood strand of 002 Sec 3.1 / 000 Sec 3: E_A = 10 GPa, E_T = 1 GPa, G_A = 0.5 GPa, nu_A = 0.2, nu_T = 0.3."""
+    return TransverselyIsotropicElastic(E_A=10000.0, E_T=1000.0, G_A=500.0, nu_A=0.2, nu_T=0.3,
+                                        fiber=tuple(fiber), rho=WOOD_DENSITY)
+
+
+def _interface_law(Dn: float, Dt: float, Dn_compression: float | None):
+    if Dn_compression is None:
+        return LinearInterface(Dn=Dn, Dt=Dt)
+    return BilinearNormalInterface(Dn_tension=Dn, Dt=Dt, Dn_compression=Dn_compression)
+
+
+def _rotate(points, angle_deg: float) -> np.ndarray:
+    a = math.radians(angle_deg)
+    R = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+    return np.asarray(points, dtype=float) @ R.T
+
+
+def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: float | None = None,
+        l: float = 25.0, L: float = 5.0, W: float | None = None, load: float | None = None,
+        Dn_compression: float | None = None, zone_y: float | None = None, zone_Dn: float | None = None,
+        angle: float = 0.0, shift_x: float = 0.0, shift_y: float = 0.0,
+        fem_h: float = 0.1, mpm_cell: float = 0.1, mpm_ppc: int = 2) -> Case:
+    """Double lap shear specimen (002 Sec 3.1 Fig 4; 000 Fig 4B).
+
+    Three wood strands of thickness t (grain along the specimen axis y): the central
+    strip x in [t, 2t], y in [0, L + l], the outer strips x in [0, t] and [2t, 3t],
+    y in [L, 2L + l]; bond lines of length l at x = t and x = 2t; width W is the
+    plane-stress thickness. The bottom of the central strip is gripped (fixed), the
+    tops of the outer strips carry a traction ``load`` (MPa) along the axis.
+    Stiffness k = P / (<u_top> - <u_bottom>) (002 Eq 43), P = 2 load t W.
+
+    variant ``"002"``: t = 0.6, W = 10 (002 Sec 3.1); ``"000"``: t = 1, W = 1, tops
+    loaded to 1 MPa (000 Sec 3; there the bottom was loaded to 2 MPa for balance, here
+    it is gripped so static methods have a support). ``Dn_compression`` makes the
+    normal law bilinear (002 Fig 6 "inf/1": Dn in tension, Dn_compression in
+    compression); ``zone_y``/``zone_Dn``: Dn = zone_Dn below y = zone_y (002 Fig 6).
+    ``angle`` rotates the specimen about the origin (000 Fig 9), ``shift_x``/``shift_y``
+    translate it (interface on a grid line or at mid-cell for MPM, 000 Fig 8/11).
+    Reference: shear lag, 002 Eq 40-42 / Appendix A (Dn = inf assumed by the theory).
+    """
+    if variant not in ("002", "000"):
+        raise CaseError(f"variant must be '002' or '000', got {variant!r}")
+    t = check_number("t", t if t is not None else (0.6 if variant == "002" else 1.0), low=0, low_open=True)
+    W = check_number("W", W if W is not None else (10.0 if variant == "002" else 1.0), low=0, low_open=True)
+    load = check_number("load", load if load is not None else 1.0, low=0, low_open=True)
+    l = check_number("l", l, low=0, low_open=True)
+    L = check_number("L", L, low=0, low_open=True)
+    angle = check_number("angle", angle)
+    law = _interface_law(Dn, Dt, Dn_compression)
+    zones = []
+    if zone_y is not None:
+        if zone_Dn is None:
+            raise CaseError("zone_Dn must be given with zone_y")
+        zones = [(Rectangle(-1.0, -1.0, 3 * t + 2.0, zone_y + 1.0), LinearInterface(zone_Dn, Dt))]
+    wood = wood_strand(fiber=tuple(_rotate([[0.0, 1.0]], angle)[0]))
+    shift = np.array([shift_x, shift_y])
+
+    def rect(x0, y0, w, h):
+        o = _rotate([[x0, y0]], angle)[0] + shift
+        return Rectangle(float(o[0]), float(o[1]), w, h, angle=angle)
+
+    bodies = [Body("outer_left", rect(0.0, L, t, l + L), "wood"),
+              Body("center", rect(t, 0.0, t, L + l), "wood"),
+              Body("outer_right", rect(2 * t, L, t, l + L), "wood")]
+    axis = _rotate([[0.0, 1.0]], angle)[0]
+    traction = tuple(float(v) for v in load * axis)
+    ramp = 0.5 * MS if variant == "002" else 0.04 * MS
+    bcs = [BoundaryCondition("fixed", "center", "ymin", ("x", "y"), (0.0, 0.0)),
+           BoundaryCondition("traction", "outer_left", "ymax", ("x", "y"), traction, ramp_time=ramp),
+           BoundaryCondition("traction", "outer_right", "ymax", ("x", "y"), traction, ramp_time=ramp)]
+    P = 2 * load * t * W
+    y_line = [_rotate([[1.5 * t, 0.0]], angle)[0] + shift, _rotate([[1.5 * t, 2 * L + l]], angle)[0] + shift]
+    bond = [_rotate([[t, L]], angle)[0] + shift, _rotate([[t, L + l]], angle)[0] + shift]
+    return Case(
+        name="dls", analysis="plane_stress", thickness=W,
+        description=f"Double lap shear ({variant} specimen), Dt = {Dt} MPa/mm, Dn = {Dn} MPa/mm, P = {P:g} N",
+        materials={"wood": wood}, bodies=bodies,
+        interfaces=[InterfacePair("outer_left", "center", law, zones), InterfacePair("center", "outer_right", law, zones)],
+        boundary_conditions=bcs,
+        measurements={"stiffness": {"load": [["outer_left", "ymax"], ["outer_right", "ymax"]],
+                                    "support": [["center", "ymin"]], "direction": [float(v) for v in axis]},
+                      "interface_energy": {}},
+        discretization={"fem": {"h": fem_h, "order": 2},
+                        "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
+                                "normal_vector": [float(v) for v in _rotate([[1.0, 0.0]], angle)[0]]}},
+        analytic={"model": "dls_shear_lag", "t1": t, "t2": t, "E1": 10000.0, "E2": 10000.0, "G1": 500.0,
+                  "G2": 500.0, "l": l, "L": L, "W": W, "Dt": Dt},
+        reference="analytic",
+        lines={"axis": [list(map(float, y_line[0])), list(map(float, y_line[1]))],
+               "bond_line": [list(map(float, bond[0])), list(map(float, bond[1]))]},
+    )
+
+
+def two_layer(Dt: float = 5.0, Dn: float = math.inf, width: float = 4.0, height: float = 20.0,
+              depth: float = 4.0, stress: float = 0.5, E: float = 2400.0, nu: float = 0.33,
+              shift_x: float = 0.0, fem_h: float = 0.25, mpm_cell: float = 0.25, mpm_ppc: int = 2) -> Case:
+    """Two identical layers joined by an imperfect interface (000 Fig 4A, Sec 3).
+
+    Layers ``width`` x ``height`` (mm) side by side (interface at x = width), depth
+    ``depth`` out of plane; E = 2400 MPa, nu = 0.33. The whole bottom is fixed and the
+    left layer carries ``stress`` (0.5 MPa) on its top, ramped over 0.02 ms for MPM.
+    Dn = inf, Dt varied (000 Fig 5: interfacial energy per unit volume vs Dt).
+    ``shift_x`` moves the specimen (interface on a grid line or mid-cell, 000 Fig 8).
+    Reference: FEM (no closed form).
+    """
+    for n, v in (("width", width), ("height", height), ("depth", depth), ("stress", stress)):
+        check_number(n, v, low=0, low_open=True)
+    mat = IsotropicElastic(E=E, nu=nu, rho=1.2 * G_PER_CM3)
+    bodies = [Body("left", Rectangle(shift_x, 0.0, width, height), "polymer"),
+              Body("right", Rectangle(shift_x + width, 0.0, width, height), "polymer")]
+    ramp = 0.02 * MS
+    bcs = [BoundaryCondition("fixed", "left", "ymin", ("x", "y"), (0.0, 0.0)),
+           BoundaryCondition("fixed", "right", "ymin", ("x", "y"), (0.0, 0.0)),
+           BoundaryCondition("traction", "left", "ymax", ("x", "y"), (0.0, stress), ramp_time=ramp)]
+    return Case(
+        name="two_layer", analysis="plane_stress", thickness=depth,
+        description=f"Two-layer shear (000 Fig 4A), Dt = {Dt} MPa/mm, Dn = {Dn} MPa/mm",
+        materials={"polymer": mat}, bodies=bodies,
+        interfaces=[InterfacePair("left", "right", LinearInterface(Dn=Dn, Dt=Dt))],
+        boundary_conditions=bcs,
+        measurements={"interface_energy": {"per_volume": 2 * width * height * depth}},
+        discretization={"fem": {"h": fem_h, "order": 2},
+                        "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
+                                "normal_vector": [1.0, 0.0]}},
+        reference="fem",
+        lines={"interface": [[shift_x + width, 0.0], [shift_x + width, height]],
+               "across": [[shift_x, 0.75 * height], [shift_x + 2 * width, 0.75 * height]]},
+    )
+
+
+def dcb(Dn: float = math.inf, a: float = 25.0, length: float = 50.0, h: float = 0.6, W: float = 10.0,
+        P: float = 1.0, kb: float = 7808.0, fem_h: float = 0.1, mpm_cell: float = 0.1, mpm_ppc: int = 2) -> Case:
+    """Double cantilever beam (002 Sec 3.2 Fig 8) with wood arms (grain along x).
+
+    Arms of depth h (0.6 mm) over ``length`` (50 mm), crack of length a (25 mm) from
+    x = 0 (debonded: Dn = Dt = 0 there), bonded for x > a with normal parameter Dn
+    (Dt = Dn: the symmetric opening produces no tangential jump). The left ends of
+    the arms carry opposite shear tractions giving forces +/- P; the right ends are
+    clamped. Load-point stiffness k = P / opening. Reference: beam on elastic
+    foundation, 002 Eq 46-47, with kb (002 found 7808 MPa by FEA; recompute it with
+    ``interfaces.analytic`` from a perfect-interface run).
+    """
+    for n, v in (("a", a), ("length", length), ("h", h), ("W", W), ("P", P)):
+        check_number(n, v, low=0, low_open=True)
+    if not a < length:
+        raise CaseError(f"a must be < length = {length:g}, got {a:g}")
+    wood = wood_strand(fiber=(1.0, 0.0))
+    bodies = [Body("lower", Rectangle(0.0, 0.0, length, h), "wood"),
+              Body("upper", Rectangle(0.0, h, length, h), "wood")]
+    crack = (Rectangle(-1.0, 0.0, a + 1.0, 2 * h), LinearInterface(0.0, 0.0))
+    tr = P / (h * W)
+    ramp = 1.0 * MS
+    bcs = [BoundaryCondition("traction", "upper", "xmin", ("x", "y"), (0.0, tr), ramp_time=ramp),
+           BoundaryCondition("traction", "lower", "xmin", ("x", "y"), (0.0, -tr), ramp_time=ramp),
+           BoundaryCondition("fixed", "upper", "xmax", ("x", "y"), (0.0, 0.0)),
+           BoundaryCondition("fixed", "lower", "xmax", ("x", "y"), (0.0, 0.0))]
+    return Case(
+        name="dcb", analysis="plane_stress", thickness=W,
+        description=f"Double cantilever beam (002 Sec 3.2), Dn = {Dn} MPa/mm, a = {a} mm",
+        materials={"wood": wood}, bodies=bodies,
+        interfaces=[InterfacePair("lower", "upper", LinearInterface(Dn=Dn, Dt=Dn), [crack])],
+        boundary_conditions=bcs,
+        measurements={"stiffness": {"load": [["upper", "xmin"]], "support": [["lower", "xmin"]], "direction": "y"}},
+        discretization={"fem": {"h": fem_h, "order": 2},
+                        "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
+                                "normal_vector": [0.0, 1.0]}},
+        analytic={"model": "dcb_beam_foundation", "a": a, "h": h, "W": W, "E_xx": 10000.0, "Dn": Dn, "kb": kb},
+        reference="analytic",
+        lines={"bond_line": [[0.0, h], [length, h]]},
+    )
+
+
+def wave(Dn: float = 1.0e5, f: float = 100.0e3, amplitude: float = -1.0e-4, length: float = 150.0,
+         height: float = 100.0, x_interface: float = 50.0, E: float = 410.0e3, nu: float = 0.28,
+         rho_g_cm3: float = 15.0, nonlinear: bool = False, mpm_cell: float = 1.0, mpm_ppc: int = 2) -> Case:
+    """Plane wave through an imperfect interface (002 Sec 3.3, Fig 10-11).
+
+    150 x 100 x 1 mm block, interface at x = 50 mm, E = 410 GPa, nu = 0.28,
+    rho = 15 g/cm^3 (v = 5235 m/s). The left edge gets the displacement pulse of
+    002 Eq 49, x(t) = x0/2 (1 - cos 2 pi f t) for t <= 1/(2f) (``amplitude`` = x0 < 0
+    for a tensile pulse). ``nonlinear``: Dn in tension, perfect in compression.
+    Reference: transmitted energy of 002 Eq 48 (ERRATA 6). Dynamic (MPM) only.
+    """
+    check_number("f", f, low=0, low_open=True)
+    check_number("x_interface", x_interface, low=0, high=length, low_open=True, high_open=True)
+    mat = IsotropicElastic(E=E, nu=nu, rho=rho_g_cm3 * G_PER_CM3)
+    law = BilinearNormalInterface(Dn_tension=Dn, Dt=math.inf) if nonlinear else LinearInterface(Dn=Dn, Dt=math.inf)
+    bodies = [Body("incident", Rectangle(0.0, 0.0, x_interface, height), "tungsten"),
+              Body("transmitted", Rectangle(x_interface, 0.0, length - x_interface, height), "tungsten")]
+    bcs = [BoundaryCondition("displacement", "incident", "xmin", ("x",), (amplitude,), ramp_time=1 / (2 * f), ramp="cosine")]
+    v = math.sqrt(E / mat.rho)
+    return Case(
+        name="wave", analysis="plane_strain", thickness=1.0,
+        description=f"Wave transmission (002 Sec 3.3), Dn = {Dn} MPa/mm, f = {f:g} Hz",
+        materials={"tungsten": mat}, bodies=bodies,
+        interfaces=[InterfacePair("incident", "transmitted", law)],
+        boundary_conditions=bcs,
+        measurements={"transmitted_energy": {"x_incident": 0.5 * x_interface, "x_transmitted": x_interface + 0.5 * (length - x_interface),
+                                             "duration": (length - 0.25 * (length - x_interface)) / v * 1.0}},
+        discretization={"mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "damping": 0.0}},
+        analytic={"model": "wave_transmission", "Dn": Dn, "f": f, "rho": mat.rho, "E": E,
+                  "nonlinear": nonlinear, "pulse": "tensile" if amplitude < 0 else "compressive"},
+        reference="analytic",
+        lines={"axis": [[0.0, 0.5 * height], [length, 0.5 * height]]},
+    )
+
+
+def particulate(D: float = math.inf, radius: float = 0.7, side: float = 1.0, strain: float = 0.005,
+                mpm_cell: float = 0.05, mpm_ppc: int = 2) -> Case:
+    """1/8 of a spherical glass particle in a polymer cube (000 Sec 3, Fig 4C; Eq 34-36).
+
+    Particle radius 0.7 mm (700 um) centred at the origin in a cube of side 1 mm,
+    glass E = 70 GPa, nu = 0.25; matrix E = 2400 MPa, nu = 0.33; interface Dn = Dt = D.
+    Symmetry planes x, y, z = 0 have zero normal displacement; the outer faces move
+    outward by ``strain`` x side. Bulk modulus K = 2 (U_strain + U_interface) / (9 l^3 eps0^2)
+    (000 Eq 35). Reference: composite spheres with an imperfect interface (approximate
+    for a cubic array).
+    """
+    check_number("radius", radius, low=0, high=side, low_open=True, high_open=True)
+    glass = IsotropicElastic(E=70000.0, nu=0.25, rho=2.5 * G_PER_CM3)
+    polymer = IsotropicElastic(E=2400.0, nu=0.33, rho=1.2 * G_PER_CM3)
+    cube = Box(0.0, 0.0, 0.0, side, side, side)
+    sphere = Sphere(0.0, 0.0, 0.0, radius)
+    bodies = [Body("particle", sphere, "glass", within=cube), Body("matrix", cube, "polymer", holes=[sphere])]
+    u = strain * side
+    bcs = [BoundaryCondition("fixed", "*", "xmin", ("x",), (0.0,)),
+           BoundaryCondition("fixed", "*", "ymin", ("y",), (0.0,)),
+           BoundaryCondition("fixed", "*", "zmin", ("z",), (0.0,)),
+           BoundaryCondition("displacement", "*", "xmax", ("x",), (u,), ramp_time=0.02 * MS),
+           BoundaryCondition("displacement", "*", "ymax", ("y",), (u,), ramp_time=0.02 * MS),
+           BoundaryCondition("displacement", "*", "zmax", ("z",), (u,), ramp_time=0.02 * MS)]
+    phi = (math.pi / 6) * radius**3 / side**3
+    return Case(
+        name="particulate", analysis="3d", thickness=1.0,
+        description=f"Particulate composite unit cell (000 Fig 4C), Dn = Dt = {D} MPa/mm",
+        materials={"glass": glass, "polymer": polymer}, bodies=bodies,
+        interfaces=[InterfacePair("particle", "matrix", LinearInterface(Dn=D, Dt=D))],
+        boundary_conditions=bcs,
+        measurements={"bulk_modulus": {"strain": strain, "volume": side**3}},
+        discretization={"mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "normal": "SN", "normal_center": [0.0, 0.0, 0.0]}},
+        analytic={"model": "composite_spheres", "K_p": glass.K, "G_p": glass.G, "K_m": polymer.K, "G_m": polymer.G,
+                  "phi": phi, "a": radius, "Dn": D},
+        reference="analytic",
+        lines={},
+    )
+
+
+# ---- CPD bimaterial square (003 Sec 4) -----------------------------------------
+TABLE2 = {  # set: (C1B/C1A, nu_A (2D), C2A delta^3/C1A, nu_B (2D), C2B delta^3/C1B)
+    1: (100.0, 0.1, -7 / 64, 0.1, -7 / 64),
+    2: (1.0, 1 / 3, 0.0, 0.7, 33 / 64),
+    3: (1 / 20, 0.4, 3 / 64, 0.2, -9 / 128),
+    4: (1.0, 0.6, 9 / 32, 0.6, 9 / 32),
+}
+LOAD_CASES = {  # H = F - I applied to the left and right boundary regions (003 Fig 4)
+    1: (0.001, 0.0, 0.0, 0.0),     # I: uniaxial stretch in x
+    2: (0.001, 0.0, 0.0, 0.001),   # II: biaxial stretch
+    3: (0.0, 0.001, 0.001, 0.0),   # III: shear in x and y
+}
+
+
+def cpd_plane_material(C1: float, C2_ratio: float, delta: float) -> IsotropicElastic:
+    """Plane-strain isotropic material equivalent to 2D CPD constants (ERRATA 12).
+
+    mu = pi C1 delta^3 / 24, lambda = mu + 8 pi C2 delta^6 / 27 with C2 = C2_ratio C1 / delta^3;
+    plane strain uses the same Lame constants, so nu_3D = nu_2D / (1 + nu_2D).
+    """
+    mu = math.pi * C1 * delta**3 / 24
+    lam = mu + 8 * math.pi * C2_ratio * C1 * delta**3 / 27
+    return IsotropicElastic(E=mu * (3 * lam + 2 * mu) / (lam + mu), nu=lam / (2 * (lam + mu)), rho=1.0 * G_PER_CM3)
+
+
+def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str = "vertical",
+                      hole: bool = False, strain_scale: float = 1.0, h: float = 0.01, delta_factor: float = 3.01,
+                      overlap: float = 1.0, fem_h: float = 0.01) -> Case:
+    """Bimaterial unit square of 003 Sec 4.1 (Fig 4-7, 9-12), plane strain, perfect interface.
+
+    Square [-0.5, 0.5]^2 split in halves by a ``vertical`` (x = 0), ``horizontal``
+    (y = 0) or ``diagonal`` (45 degrees, y = x) interface; material A left/bottom, B
+    right/top. Materials from Table 2 ``parameter_set`` (1-4): C1^A = 1 at the paper's
+    delta = 3.01 x 0.01, converted to plane-strain (E, nu) by ERRATA 12 so that every
+    method (and every horizon) sees the same continuum. Load cases (003 Fig 4): the
+    left and right sides get u = H X with H of ``LOAD_CASES`` (0.1 % stretch, biaxial
+    stretch, shear), scaled by ``strain_scale`` (1000 gives the 100 % stretch of Sec 4.4).
+    ``hole``: a centred square hole of side 0.4 (003 Fig 9 bottom). CPD options: grid
+    spacing h, delta = delta_factor h, overlap width = ``overlap`` x delta.
+    Reference: plane-strain FEM with a perfect interface.
+    """
+    if parameter_set not in TABLE2:
+        raise CaseError(f"parameter_set must be 1, 2, 3 or 4, got {parameter_set!r}")
+    if load_case not in LOAD_CASES:
+        raise CaseError(f"load_case must be 1 (I), 2 (II) or 3 (III), got {load_case!r}")
+    if interface not in ("vertical", "horizontal", "diagonal"):
+        raise CaseError(f"interface must be vertical, horizontal or diagonal, got {interface!r}")
+    ratio, _, rA, _, rB = TABLE2[parameter_set]
+    delta0 = 3.01 * 0.01
+    mats = {"A": cpd_plane_material(1.0, rA, delta0), "B": cpd_plane_material(ratio, rB, delta0)}
+    if interface == "vertical":
+        shapes = (Rectangle(-0.5, -0.5, 0.5, 1.0), Rectangle(0.0, -0.5, 0.5, 1.0))
+    elif interface == "horizontal":
+        shapes = (Rectangle(-0.5, -0.5, 1.0, 0.5), Rectangle(-0.5, 0.0, 1.0, 0.5))
+    else:
+        shapes = (Polygon([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5]]), Polygon([[-0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]]))
+    holes = [Rectangle(-0.2, -0.2, 0.4, 0.4)] if hole else []
+    bodies = [Body("A", shapes[0], "A", holes=list(holes)), Body("B", shapes[1], "B", holes=list(holes))]
+    H = tuple(float(v) * strain_scale for v in LOAD_CASES[load_case])
+    bcs = [BoundaryCondition("deformation_gradient", "*", "xmin", ("x", "y"), H),
+           BoundaryCondition("deformation_gradient", "*", "xmax", ("x", "y"), H)]
+    y_line = 0.35 if hole else 0.1
+    return Case(
+        name="bimaterial_square", analysis="plane_strain", thickness=1.0,
+        description=(f"CPD bimaterial square (003 Sec 4.1): set {parameter_set}, load case "
+                     f"{'I' * load_case if load_case < 3 else 'III'}, {interface} interface{', hole' if hole else ''}"),
+        materials=mats, bodies=bodies,
+        interfaces=[InterfacePair("A", "B", LinearInterface(math.inf, math.inf))],
+        boundary_conditions=bcs,
+        measurements={"strain_energy": {}},
+        discretization={"fem": {"h": fem_h, "order": 2},
+                        "cpd": {"h": h, "delta_factor": delta_factor, "overlap": overlap}},
+        reference="fem",
+        lines={"vertical": [[0.1, -0.5], [0.1, 0.5]], "horizontal": [[-0.5, y_line], [0.5, y_line]]},
+    )
+
+
+def cuboid(interface: str = "vertical", load_case: int = 1, size=(1.0, 1.0, 1.0), h: float = 0.035,
+           delta_factor: float = 3.01) -> Case:
+    """Bimaterial cuboid of 003 Sec 4.5 (Fig 13), 3D, perfect interface.
+
+    Material A (nu = 0.1) and B (nu = 0.4, C1^B = 20 C1^A) with C1^A = 1 at
+    delta = 3.01 x 0.035, converted by ERRATA 12 (mu = pi C1 delta^4 / 30). Interface
+    ``vertical`` (x = 0) or ``horizontal`` (z = 0); u = H X on the x-sides with H of
+    load case I-III extended to 3D (0.1 %).
+    """
+    if interface not in ("vertical", "horizontal"):
+        raise CaseError(f"interface must be vertical or horizontal, got {interface!r}")
+    if load_case not in LOAD_CASES:
+        raise CaseError(f"load_case must be 1, 2 or 3, got {load_case!r}")
+    sx, sy, sz = (check_number(f"size[{i}]", v, low=0, low_open=True) for i, v in enumerate(size))
+    delta0 = 3.01 * 0.035
+
+    def mat(C1, nu):
+        mu = math.pi * C1 * delta0**4 / 30
+        return IsotropicElastic(E=2 * mu * (1 + nu), nu=nu, rho=1.0 * G_PER_CM3)
+
+    mats = {"A": mat(1.0, 0.1), "B": mat(20.0, 0.4)}
+    if interface == "vertical":
+        shapes = (Box(-sx / 2, -sy / 2, -sz / 2, sx / 2, sy, sz), Box(0.0, -sy / 2, -sz / 2, sx / 2, sy, sz))
+    else:
+        shapes = (Box(-sx / 2, -sy / 2, -sz / 2, sx, sy, sz / 2), Box(-sx / 2, -sy / 2, 0.0, sx, sy, sz / 2))
+    Hxx, Hxy, Hyx, Hyy = LOAD_CASES[load_case]
+    H = (Hxx, Hxy, 0.0, Hyx, Hyy, 0.0, 0.0, 0.0, 0.0)
+    bcs = [BoundaryCondition("deformation_gradient", "*", "xmin", ("x", "y", "z"), H),
+           BoundaryCondition("deformation_gradient", "*", "xmax", ("x", "y", "z"), H)]
+    return Case(
+        name="cuboid", analysis="3d", thickness=1.0,
+        description=f"CPD bimaterial cuboid (003 Sec 4.5), {interface} interface, load case {load_case}",
+        materials=mats, bodies=[Body("A", shapes[0], "A"), Body("B", shapes[1], "B")],
+        interfaces=[InterfacePair("A", "B", LinearInterface(math.inf, math.inf))],
+        boundary_conditions=bcs, measurements={"strain_energy": {}},
+        discretization={"cpd": {"h": h, "delta_factor": delta_factor, "overlap": 1.0}},
+        lines={"axis": [[-sx / 2, 0.0, 0.0], [sx / 2, 0.0, 0.0]]},
+    )

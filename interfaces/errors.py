@@ -1,0 +1,57 @@
+"""Errors raised for bad input and for failed solves.
+
+Both carry a one-line message that names the offending field (``materials.wood.E_A``)
+or says what to change (time step, damping, Dn), so users never see a traceback from
+deep inside numpy instead.
+"""
+from __future__ import annotations
+
+import math
+from numbers import Real
+
+
+class CaseError(ValueError):
+    """Invalid case description or solver option; the message names the field."""
+
+
+class SolverError(RuntimeError):
+    """A solve failed (diverged, did not converge); the message says what to change."""
+
+
+def check_number(field: str, value, *, low: float | None = None, high: float | None = None,
+                 low_open: bool = False, high_open: bool = False,
+                 allow_inf: bool = False) -> float:
+    """Return ``value`` as a float, or raise :class:`CaseError` naming ``field``.
+
+    ``low``/``high`` are inclusive bounds unless ``low_open``/``high_open``.
+    NaN is always rejected; +inf only with ``allow_inf``.
+    """
+    if isinstance(value, bool) or not isinstance(value, Real):
+        try:
+            if isinstance(value, str) and value.strip().lower() in ("inf", "+inf", "infinity"):
+                value = math.inf
+            else:
+                raise TypeError
+        except TypeError:
+            raise CaseError(f"{field} must be a number, got {value!r}") from None
+    v = float(value)
+    if math.isnan(v):
+        raise CaseError(f"{field} must be a number, got NaN")
+    if math.isinf(v) and not (allow_inf and v > 0):
+        raise CaseError(f"{field} must be finite, got {v}")
+    rng = _range_text(low, high, low_open, high_open)
+    if low is not None and (v < low or (low_open and v == low)):
+        raise CaseError(f"{field} must be {rng}, got {v:g}")
+    if high is not None and (v > high or (high_open and v == high)):
+        raise CaseError(f"{field} must be {rng}, got {v:g}")
+    return v
+
+
+def _range_text(low, high, low_open, high_open) -> str:
+    if low is not None and high is not None:
+        return f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+    if low is not None:
+        return f"{'>' if low_open else '>='} {low:g}"
+    if high is not None:
+        return f"{'<' if high_open else '<='} {high:g}"
+    return "a number"
