@@ -1,0 +1,349 @@
+"""Numba kernels: CPD energy, exact residual and exact tangent (003 Eq 7, 10).
+
+The total discrete energy of one material is (003 Eq 7 with point volumes V)
+
+    W = sum_p V_p [ sum_i 1/2 psi1(p,i) V_i
+                    + sum_{i != j} 1/3 psi2(p,i,j) V_i V_j
+                    + sum_{i,j,k distinct} 1/4 psi3(p,i,j,k) V_i V_j V_k ]
+
+over central points p and neighbours i, j, k in the horizon of p (same material),
+with the harmonic potentials of 003 Eq 10
+
+    psi1 = 1/2 C1 L (l/L - 1)^2,  psi2 = 1/2 C2 A (a/A - 1)^2,  psi3 = 1/2 C3 V (v/V - 1)^2,
+
+l = |xi_i|, a = |xi_i x xi_j| (2D: scalar cross product), v = |(xi_i x xi_j) . xi_k|.
+Ordered neighbour tuples are enumerated once as i < j (< k); the multiplicities 2 and 6
+combine with 1/3 and 1/4 into the weights 2/3 and 3/2. Tuples with a vanishing reference
+area / volume (collinear / coplanar neighbours) carry no energy (they have measure zero
+in the continuum and psi2, psi3 are undefined for A = 0, V = 0) and are skipped.
+
+The residual is the exact gradient dW/dx and the tangent the exact Hessian; the printed
+Eq 16-18 and Appendix A of 003 are garbled (ERRATA 11) and are not used. Tuples are not
+stored: they are enumerated from the neighbour lists inside the kernel (a 3D horizon of
+3.01 h holds ~1.8e5 quadruples per point, far too many to keep in memory). The tangent of
+one central point is accumulated in a dense local matrix over {p} + horizon(p), then
+added once into the fixed block-structured CSR pattern (see ``assembly.py``).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+#: relative threshold below which a reference area (volume) counts as degenerate
+DEGENERATE_TOL = 1e-8
+
+
+@njit(cache=True)
+def _find(cols, lo, hi, key):
+    """Binary search of ``key`` in the sorted slice ``cols[lo:hi]``; -1 if absent."""
+    while lo < hi:
+        mid = (lo + hi) // 2
+        v = cols[mid]
+        if v < key:
+            lo = mid + 1
+        elif v > key:
+            hi = mid
+        else:
+            return mid
+    return -1
+
+
+@njit(cache=True)
+def _add_tuple(Kloc, f_loc, slots, k, d, g, H):
+    """Map a tuple's derivatives w.r.t. its relative vectors xi_m = x_m - x_p onto nodes.
+
+    ``slots[m]`` is the local node index (>= 1) of neighbour m of the tuple, local node 0 is
+    the central point. ``g`` (k, d) is dpsi/dxi_m, ``H`` (k, k, d, d) d2psi/dxi_m dxi_n.
+    Since dxi_m/dx_p = -I: f_p -= sum_m g_m and the central rows/columns of K are the
+    negative sums of the neighbour blocks.
+    """
+    for m in range(k):
+        a = slots[m] * d
+        for al in range(d):
+            f_loc[a + al] += g[m, al]
+            f_loc[al] -= g[m, al]
+    if Kloc.shape[0] == 0:
+        return
+    for m in range(k):
+        a = slots[m] * d
+        for n in range(k):
+            b = slots[n] * d
+            for al in range(d):
+                for be in range(d):
+                    h = H[m, n, al, be]
+                    Kloc[a + al, b + be] += h
+                    Kloc[a + al, be] -= h
+                    Kloc[al, b + be] -= h
+                    Kloc[al, be] += h
+
+
+@njit(cache=True)
+def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data):
+    """Add the dense local tangent of one central point into the block CSR ``data``.
+
+    Block (a, b) of node row a sits at block slot kk of ``cols[rowptr[a]:rowptr[a+1]]``;
+    dof row a*d+al starts at d*d*rowptr[a] + al*d*nb(a) and holds d columns per block.
+    With ``full`` False (pair-only material) only blocks touching the central point or
+    the diagonal are non-zero and only those are added.
+    """
+    for m in range(nl):
+        a = nodes[m]
+        r0 = rowptr[a]
+        nb = rowptr[a + 1] - r0
+        for n in range(nl):
+            if not full and m != 0 and n != 0 and m != n:
+                continue
+            kk = _find(cols, r0, rowptr[a + 1], nodes[n])
+            if kk < 0:
+                raise ValueError("tangent block outside the precomputed sparsity pattern")
+            kk -= r0
+            for al in range(d):
+                base = d * d * r0 + al * d * nb + kk * d
+                for be in range(d):
+                    data[base + be] += Kloc[m * d + al, n * d + be]
+
+
+@njit(cache=True)
+def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
+             rowptr, cols, data, f):
+    """Energy of one material; add its residual to ``f`` and its tangent to ``data``.
+
+    X, u: (N, d) reference positions and displacements of all nodes. ``centers`` (M,)
+    central nodes of this material, their neighbours ``nidx[nptr[c]:nptr[c+1]]`` (same
+    material, within the horizon). C1, C2, C3: (M,) constants per central point, vol:
+    (N,) point volumes. Returns (energy, pairs, triples, quadruples) counted.
+    """
+    d = X.shape[1]
+    energy = 0.0
+    n_pairs = 0
+    n_trip = 0
+    n_quad = 0
+    g = np.zeros((3, d))
+    H = np.zeros((3, 3, d, d))
+    slots = np.zeros(3, np.int64)
+    for c in range(centers.shape[0]):
+        p = centers[c]
+        s0 = nptr[c]
+        n = nptr[c + 1] - s0
+        nl = n + 1
+        nodes = np.empty(nl, np.int64)
+        nodes[0] = p
+        Xi = np.empty((n, d))
+        xi = np.empty((n, d))
+        Ln = np.empty(n)
+        for a in range(n):
+            q = nidx[s0 + a]
+            nodes[a + 1] = q
+            s2 = 0.0
+            for al in range(d):
+                Xi[a, al] = X[q, al] - X[p, al]
+                xi[a, al] = Xi[a, al] + u[q, al] - u[p, al]
+                s2 += Xi[a, al] * Xi[a, al]
+            Ln[a] = np.sqrt(s2)
+        f_loc = np.zeros(nl * d)
+        if want_tangent:
+            Kloc = np.zeros((nl * d, nl * d))
+        else:
+            Kloc = np.zeros((0, 0))
+        Vp = vol[p]
+        full = False
+        # ---- one-neighbour interactions, psi1 = 1/2 C1 L (l/L - 1)^2 ----
+        if C1[c] != 0.0:
+            for a in range(n):
+                w = 0.5 * Vp * vol[nodes[a + 1]] * C1[c]
+                L = Ln[a]
+                l2 = 0.0
+                for al in range(d):
+                    l2 += xi[a, al] * xi[a, al]
+                l = np.sqrt(l2)
+                if l == 0.0:
+                    raise ValueError("two interacting points coincide (l = 0)")
+                energy += 0.5 * w * L * (l / L - 1.0) ** 2
+                coef = w * (1.0 / L - 1.0 / l)
+                slots[0] = a + 1
+                for al in range(d):
+                    g[0, al] = coef * xi[a, al]
+                    for be in range(d):
+                        H[0, 0, al, be] = w * xi[a, al] * xi[a, be] / (l2 * l)
+                    H[0, 0, al, al] += coef
+                _add_tuple(Kloc, f_loc, slots, 1, d, g, H)
+                n_pairs += 1
+        # ---- two-neighbour interactions, psi2 = 1/2 C2 A (a/A - 1)^2 ----
+        if C2[c] != 0.0:
+            full = True
+            for a in range(n):
+                for b in range(a + 1, n):
+                    w = (2.0 / 3.0) * Vp * vol[nodes[a + 1]] * vol[nodes[b + 1]] * C2[c]
+                    slots[0] = a + 1
+                    slots[1] = b + 1
+                    if d == 2:
+                        A = abs(Xi[a, 0] * Xi[b, 1] - Xi[a, 1] * Xi[b, 0])
+                        if A <= DEGENERATE_TOL * Ln[a] * Ln[b]:
+                            continue
+                        s = xi[a, 0] * xi[b, 1] - xi[a, 1] * xi[b, 0]
+                        sg = 1.0 if s >= 0.0 else -1.0
+                        aa = abs(s)
+                        energy += 0.5 * w * (aa - A) ** 2 / A
+                        d1 = w * (aa - A) / A * sg      # dpsi/ds
+                        d2 = w / A                       # d2psi/ds2
+                        g[0, 0] = xi[b, 1]
+                        g[0, 1] = -xi[b, 0]
+                        g[1, 0] = -xi[a, 1]
+                        g[1, 1] = xi[a, 0]
+                        for m in range(2):
+                            for nn in range(2):
+                                for al in range(2):
+                                    for be in range(2):
+                                        H[m, nn, al, be] = d2 * g[m, al] * g[nn, be]
+                        # d2 s / dxi_a dxi_b = [[0, 1], [-1, 0]]
+                        H[0, 1, 0, 1] += d1
+                        H[0, 1, 1, 0] -= d1
+                        H[1, 0, 1, 0] += d1
+                        H[1, 0, 0, 1] -= d1
+                        for m in range(2):
+                            for al in range(2):
+                                g[m, al] *= d1
+                    else:
+                        N0 = np.empty(3)
+                        N0[0] = Xi[a, 1] * Xi[b, 2] - Xi[a, 2] * Xi[b, 1]
+                        N0[1] = Xi[a, 2] * Xi[b, 0] - Xi[a, 0] * Xi[b, 2]
+                        N0[2] = Xi[a, 0] * Xi[b, 1] - Xi[a, 1] * Xi[b, 0]
+                        A = np.sqrt(N0[0] ** 2 + N0[1] ** 2 + N0[2] ** 2)
+                        if A <= DEGENERATE_TOL * Ln[a] * Ln[b]:
+                            continue
+                        nv = np.empty(3)
+                        nv[0] = xi[a, 1] * xi[b, 2] - xi[a, 2] * xi[b, 1]
+                        nv[1] = xi[a, 2] * xi[b, 0] - xi[a, 0] * xi[b, 2]
+                        nv[2] = xi[a, 0] * xi[b, 1] - xi[a, 1] * xi[b, 0]
+                        aa = np.sqrt(nv[0] ** 2 + nv[1] ** 2 + nv[2] ** 2)
+                        if aa == 0.0:
+                            raise ValueError("a two-neighbour interaction collapsed (a = 0)")
+                        energy += 0.5 * w * (aa - A) ** 2 / A
+                        d1 = w * (aa - A) / A            # dpsi/da
+                        d2 = w / A                       # d2psi/da2
+                        mv = nv / aa
+                        # da/dxi_a = xi_b x m, da/dxi_b = m x xi_a
+                        ga = np.empty(3)
+                        gb = np.empty(3)
+                        ga[0] = xi[b, 1] * mv[2] - xi[b, 2] * mv[1]
+                        ga[1] = xi[b, 2] * mv[0] - xi[b, 0] * mv[2]
+                        ga[2] = xi[b, 0] * mv[1] - xi[b, 1] * mv[0]
+                        gb[0] = mv[1] * xi[a, 2] - mv[2] * xi[a, 1]
+                        gb[1] = mv[2] * xi[a, 0] - mv[0] * xi[a, 2]
+                        gb[2] = mv[0] * xi[a, 1] - mv[1] * xi[a, 0]
+                        # dn/dxi_a = -[xi_b]x, dn/dxi_b = [xi_a]x ; P = (I - m m^T)/a
+                        Da = np.zeros((3, 3))
+                        Db = np.zeros((3, 3))
+                        Da[0, 1] = xi[b, 2]
+                        Da[0, 2] = -xi[b, 1]
+                        Da[1, 0] = -xi[b, 2]
+                        Da[1, 2] = xi[b, 0]
+                        Da[2, 0] = xi[b, 1]
+                        Da[2, 1] = -xi[b, 0]
+                        Db[0, 1] = -xi[a, 2]
+                        Db[0, 2] = xi[a, 1]
+                        Db[1, 0] = xi[a, 2]
+                        Db[1, 2] = -xi[a, 0]
+                        Db[2, 0] = -xi[a, 1]
+                        Db[2, 1] = xi[a, 0]
+                        P = -np.outer(mv, mv)
+                        for al in range(3):
+                            P[al, al] += 1.0
+                        P /= aa
+                        Haa = Da.T @ P @ Da
+                        Hab = Da.T @ P @ Db
+                        Hbb = Db.T @ P @ Db
+                        # d2 (m . (xi_a x xi_b)) / dxi_a dxi_b = -[m]x
+                        Mx = np.zeros((3, 3))
+                        Mx[0, 1] = mv[2]
+                        Mx[0, 2] = -mv[1]
+                        Mx[1, 0] = -mv[2]
+                        Mx[1, 2] = mv[0]
+                        Mx[2, 0] = mv[1]
+                        Mx[2, 1] = -mv[0]
+                        for al in range(3):
+                            for be in range(3):
+                                H[0, 0, al, be] = d2 * ga[al] * ga[be] + d1 * Haa[al, be]
+                                H[1, 1, al, be] = d2 * gb[al] * gb[be] + d1 * Hbb[al, be]
+                                hab = d2 * ga[al] * gb[be] + d1 * (Hab[al, be] + Mx[al, be])
+                                H[0, 1, al, be] = hab
+                                H[1, 0, be, al] = hab
+                        for al in range(3):
+                            g[0, al] = d1 * ga[al]
+                            g[1, al] = d1 * gb[al]
+                    _add_tuple(Kloc, f_loc, slots, 2, d, g, H)
+                    n_trip += 1
+        # ---- three-neighbour interactions (3D), psi3 = 1/2 C3 V (v/V - 1)^2 ----
+        if d == 3 and C3[c] != 0.0:
+            full = True
+            for a in range(n):
+                for b in range(a + 1, n):
+                    cab0 = Xi[a, 1] * Xi[b, 2] - Xi[a, 2] * Xi[b, 1]
+                    cab1 = Xi[a, 2] * Xi[b, 0] - Xi[a, 0] * Xi[b, 2]
+                    cab2 = Xi[a, 0] * Xi[b, 1] - Xi[a, 1] * Xi[b, 0]
+                    xab0 = xi[a, 1] * xi[b, 2] - xi[a, 2] * xi[b, 1]
+                    xab1 = xi[a, 2] * xi[b, 0] - xi[a, 0] * xi[b, 2]
+                    xab2 = xi[a, 0] * xi[b, 1] - xi[a, 1] * xi[b, 0]
+                    for cc in range(b + 1, n):
+                        V0 = abs(cab0 * Xi[cc, 0] + cab1 * Xi[cc, 1] + cab2 * Xi[cc, 2])
+                        if V0 <= DEGENERATE_TOL * Ln[a] * Ln[b] * Ln[cc]:
+                            continue
+                        w = 1.5 * Vp * vol[nodes[a + 1]] * vol[nodes[b + 1]] * vol[nodes[cc + 1]] * C3[c]
+                        s = xab0 * xi[cc, 0] + xab1 * xi[cc, 1] + xab2 * xi[cc, 2]
+                        sg = 1.0 if s >= 0.0 else -1.0
+                        vv = abs(s)
+                        energy += 0.5 * w * (vv - V0) ** 2 / V0
+                        d1 = w * (vv - V0) / V0 * sg     # dpsi/ds
+                        d2 = w / V0
+                        # ds/dxi_a = xi_b x xi_c, ds/dxi_b = xi_c x xi_a, ds/dxi_c = xi_a x xi_b
+                        g[0, 0] = xi[b, 1] * xi[cc, 2] - xi[b, 2] * xi[cc, 1]
+                        g[0, 1] = xi[b, 2] * xi[cc, 0] - xi[b, 0] * xi[cc, 2]
+                        g[0, 2] = xi[b, 0] * xi[cc, 1] - xi[b, 1] * xi[cc, 0]
+                        g[1, 0] = xi[cc, 1] * xi[a, 2] - xi[cc, 2] * xi[a, 1]
+                        g[1, 1] = xi[cc, 2] * xi[a, 0] - xi[cc, 0] * xi[a, 2]
+                        g[1, 2] = xi[cc, 0] * xi[a, 1] - xi[cc, 1] * xi[a, 0]
+                        g[2, 0] = xab0
+                        g[2, 1] = xab1
+                        g[2, 2] = xab2
+                        if want_tangent:
+                            for m in range(3):
+                                for nn in range(3):
+                                    for al in range(3):
+                                        for be in range(3):
+                                            H[m, nn, al, be] = d2 * g[m, al] * g[nn, be]
+                            # d2 s/dxi_a dxi_b = -[xi_c]x, (a,c) = [xi_b]x, (b,c) = -[xi_a]x
+                            for pair in range(3):
+                                if pair == 0:
+                                    m, nn, t, sgn = 0, 1, cc, -1.0
+                                elif pair == 1:
+                                    m, nn, t, sgn = 0, 2, b, 1.0
+                                else:
+                                    m, nn, t, sgn = 1, 2, a, -1.0
+                                # [v]x = [[0, -v2, v1], [v2, 0, -v0], [-v1, v0, 0]]
+                                e = sgn * d1
+                                H[m, nn, 0, 1] += -e * xi[t, 2]
+                                H[m, nn, 0, 2] += e * xi[t, 1]
+                                H[m, nn, 1, 0] += e * xi[t, 2]
+                                H[m, nn, 1, 2] += -e * xi[t, 0]
+                                H[m, nn, 2, 0] += -e * xi[t, 1]
+                                H[m, nn, 2, 1] += e * xi[t, 0]
+                                H[nn, m, 1, 0] += -e * xi[t, 2]
+                                H[nn, m, 2, 0] += e * xi[t, 1]
+                                H[nn, m, 0, 1] += e * xi[t, 2]
+                                H[nn, m, 2, 1] += -e * xi[t, 0]
+                                H[nn, m, 0, 2] += -e * xi[t, 1]
+                                H[nn, m, 1, 2] += e * xi[t, 0]
+                        for m in range(3):
+                            for al in range(3):
+                                g[m, al] *= d1
+                        slots[0] = a + 1
+                        slots[1] = b + 1
+                        slots[2] = cc + 1
+                        _add_tuple(Kloc, f_loc, slots, 3, d, g, H)
+                        n_quad += 1
+        for m in range(nl):
+            for al in range(d):
+                f[nodes[m], al] += f_loc[m * d + al]
+        if want_tangent:
+            _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data)
+    return energy, n_pairs, n_trip, n_quad
