@@ -1,0 +1,273 @@
+"""Named closed-form models for the case-level dispatcher.
+
+``MODELS[name](**params) -> dict[str, float]`` returns scalar quantities named as in
+docs/case_api.md (``stiffness`` N/mm, ``compliance`` mm/N, ``beta_l``,
+``transmitted_energy``, ``bulk_modulus`` MPa, ...). ``PROFILES[name](**params)``
+returns ``{profile_name: {column: ndarray}}`` curves for plots. Both take the same
+keyword parameters, the ``case.analytic`` table without its ``model`` key; an
+unknown or missing parameter raises :class:`CaseError` naming it and listing the
+accepted ones. Interface parameters accept ``math.inf`` or the string ``"inf"``.
+
+Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
+
+* ``dls_shear_lag`` (002 Eq 40-42, App. A): t1, E1, G1 (outer strip; aliases t, E_yy,
+  G_xy), t2, E2, G2 (central strip, default = outer), l, W, L = 0, Dt = inf,
+  layer_shear = False; profile options P = 1, n_points = 201.
+* ``dcb_beam_foundation`` (002 Eq 46-47, App. B): a, h, W, E_xx, Dn = inf, kb = inf;
+  profile options P = 1, n_points = 201, x_max = 10 Delta (bonded length shown).
+* ``wave_transmission`` (002 Eq 48, ERRATA 6): f, Dn, and either Z1 [, Z2] or
+  rho, E or v [, rho2, E2 or v2] (material 2 defaults to material 1);
+  profile options n_points = 61.
+* ``composite_spheres`` (000 Sec 3): K_p or (E_p, nu_p); K_m, G_m or (E_m, nu_m);
+  a (particle radius); phi, or b (outer radius), or cube_side [+ octant = False];
+  Dn = inf; Dt, G_p accepted and unused (spherical symmetry); profile options
+  eps0 = 1, n_points = 201.
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Callable
+
+import numpy as np
+
+from interfaces.analytic._checks import CaseError, positive
+from interfaces.analytic.composite_spheres import (CompositeSpheres, bulk_shear_from_young_poisson,
+                                                    sphere_in_cube_volume_fraction)
+from interfaces.analytic.dcb import DoubleCantileverBeam
+from interfaces.analytic.dls import DoubleLapShear
+from interfaces.analytic.waves import impedance, pulse_transmission, wave_reflection, wave_transmission
+
+__all__ = ["MODELS", "PROFILES", "model_names"]
+
+_INF = math.inf
+
+
+def _take(params: dict[str, Any], model: str, allowed: dict[str, Any],
+          aliases: dict[str, str] | None = None) -> dict[str, Any]:
+    """Resolve aliases, reject unknown keys, fill defaults; ``...`` marks required keys."""
+    p = dict(params)
+    for alias, name in (aliases or {}).items():
+        if alias in p:
+            if name in p:
+                raise CaseError(f"analytic.{alias} and analytic.{name} are the same parameter "
+                                f"of {model}; give only one")
+            p[name] = p.pop(alias)
+    unknown = sorted(set(p) - set(allowed))
+    if unknown:
+        raise CaseError(f"analytic.{unknown[0]} is not a parameter of model {model!r}; "
+                        f"accepted: {', '.join(sorted(set(allowed) | set(aliases or {})))}")
+    out = {}
+    for k, default in allowed.items():
+        if k in p:
+            out[k] = p[k]
+        elif default is ...:
+            raise CaseError(f"analytic.{k} is required by model {model!r}")
+        else:
+            out[k] = default
+    return out
+
+
+def _n_points(value) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 2 <= value <= 100000:
+        raise CaseError(f"analytic.n_points must be an integer in [2, 100000], got {value!r}")
+    return int(value)
+
+
+# ---- double lap shear ------------------------------------------------------------
+_DLS = {"t1": ..., "E1": ..., "G1": ..., "t2": None, "E2": None, "G2": None, "l": ..., "W": ...,
+        "L": 0.0, "Dt": _INF, "layer_shear": False, "P": 1.0, "n_points": 201}
+_DLS_ALIASES = {"t": "t1", "E_yy": "E1", "G_xy": "G1"}
+
+
+def _dls(params: dict[str, Any]) -> tuple[DoubleLapShear, dict[str, Any]]:
+    p = _take(params, "dls_shear_lag", _DLS, _DLS_ALIASES)
+    for k in ("t", "E", "G"):
+        if p[k + "2"] is None:
+            p[k + "2"] = p[k + "1"]
+    model = DoubleLapShear(p["t1"], p["E1"], p["G1"], p["t2"], p["E2"], p["G2"], p["l"], p["W"],
+                           p["L"], p["Dt"], p["layer_shear"])
+    return model, p
+
+
+def dls_shear_lag(**params) -> dict[str, float]:
+    """DLS specimen (002 Eq 40-42, Appendix A): stiffness with arms, bonded compliance, beta l."""
+    m, _ = _dls(params)
+    k = m.stiffness
+    return {"stiffness": k, "compliance": m.compliance,
+            "specimen_compliance": math.inf if k == 0.0 else 1.0 / k,
+            "arm_compliance": m.arm_compliance, "beta": m.beta, "beta_l": m.beta_l,
+            "long_bond_stiffness": 1.0 / m.compliance_long_bond}
+
+
+def dls_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
+    """Stresses and interface slip along the bond for the load P (002 Eq A.2, A.7, A.8)."""
+    m, p = _dls(params)
+    y = np.linspace(0.0, m.l, _n_points(p["n_points"]))
+    s1, s2 = m.axial_stress(y, p["P"])
+    return {"bond": {"y": y, "shear_stress": m.shear_stress(y, p["P"]), "axial_stress_outer": s1,
+                     "axial_stress_central": s2, "jump_t": m.interface_slip(y, p["P"])}}
+
+
+# ---- double cantilever beam ------------------------------------------------------
+_DCB = {"a": ..., "h": ..., "W": ..., "E_xx": ..., "Dn": _INF, "kb": _INF,
+        "P": 1.0, "n_points": 201, "x_max": None}
+
+
+def _dcb(params: dict[str, Any]) -> tuple[DoubleCantileverBeam, dict[str, Any]]:
+    p = _take(params, "dcb_beam_foundation", _DCB)
+    return DoubleCantileverBeam(p["a"], p["h"], p["W"], p["E_xx"], p["Dn"], p["kb"]), p
+
+
+def dcb_beam_foundation(**params) -> dict[str, float]:
+    """DCB specimen (002 Eq 46-47): load-point stiffness and compliance, C0 and Delta."""
+    m, _ = _dcb(params)
+    return {"stiffness": m.stiffness, "compliance": m.compliance, "beam_compliance": m.C0,
+            "Delta": m.Delta}
+
+
+def dcb_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
+    """Arm deflection v(x) (002 Eq B.3, B.6), opening 2v, and the interface opening
+    [u_n] = k1 v/(W Dn) along the bond x >= 0 (2v when kb = inf)."""
+    m, p = _dcb(params)
+    x_max = p["x_max"]
+    x_max = (10.0 * m.Delta if m.Delta > 0.0 else m.a) if x_max is None else positive("x_max", x_max)
+    x = np.linspace(-m.a, x_max, _n_points(p["n_points"]))
+    v = m.deflection(x, p["P"])
+    # the interface spring carries the foundation load k1 v per unit length over the width W
+    xb = np.linspace(0.0, x_max, _n_points(p["n_points"]))
+    jump = (np.zeros_like(xb) if math.isinf(m.Dn)
+            else m.deflection(xb, p["P"]) / (m.W * m.Dn * m.foundation_compliance))
+    return {"deflection": {"x": x, "v": v, "opening": 2.0 * v},
+            "interface": {"x": xb, "jump_n": jump}}
+
+
+# ---- wave transmission -----------------------------------------------------------
+_WAVE = {"f": ..., "Dn": ..., "Z1": None, "Z2": None, "rho": None, "E": None, "v": None,
+         "rho2": None, "E2": None, "v2": None, "n_points": 61}
+
+
+def _wave(params: dict[str, Any]) -> tuple[float, float, float, float, dict[str, Any]]:
+    p = _take(params, "wave_transmission", _WAVE)
+    if p["Z1"] is not None:
+        if any(p[k] is not None for k in ("rho", "E", "v")):
+            raise CaseError("give analytic.Z1 or analytic.rho (with E or v), not both")
+        Z1 = positive("Z1", p["Z1"])
+    elif p["rho"] is not None:
+        Z1 = impedance(p["rho"], v=p["v"], E=p["E"])
+    else:
+        raise CaseError("wave_transmission needs analytic.Z1 or analytic.rho with E or v")
+    if p["Z2"] is not None:
+        Z2 = positive("Z2", p["Z2"])
+    elif any(p[k] is not None for k in ("rho2", "E2", "v2")):
+        Z2 = impedance(p["rho2"] if p["rho2"] is not None else p["rho"], v=p["v2"], E=p["E2"])
+    else:
+        Z2 = Z1
+    return p["f"], p["Dn"], Z1, Z2, p
+
+
+def wave_transmission_model(**params) -> dict[str, float]:
+    """Normal-incidence energy transmission through a spring interface (002 Eq 48, general Z1, Z2),
+    harmonic and for the single half-sine pulse of Eq 49."""
+    f, Dn, Z1, Z2, _ = _wave(params)
+    pulse = pulse_transmission(f, Dn, Z1, Z2)
+    return {"transmitted_energy": wave_transmission(f, Dn, Z1, Z2),
+            "reflected_energy": wave_reflection(f, Dn, Z1, Z2),
+            "pulse_transmitted_energy": pulse["transmitted_energy"],
+            "pulse_peak_ratio_squared": pulse["peak_ratio_squared"],
+            "Z1": Z1, "Z2": Z2}
+
+
+def wave_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
+    """T against Dn around the half-transmission value pi f Z (harmonic and pulse)."""
+    f, _, Z1, Z2, p = _wave(params)
+    Zh = 2.0 * Z1 * Z2 / (Z1 + Z2)
+    Dn = np.pi * positive("f", f) * Zh * np.logspace(-2.0, 2.0, _n_points(p["n_points"]))
+    T = np.array([wave_transmission(f, d, Z1, Z2) for d in Dn])
+    Tp = np.array([pulse_transmission(f, d, Z1, Z2)["transmitted_energy"] for d in Dn])
+    return {"transmission": {"Dn": Dn, "transmitted_energy": T, "pulse_transmitted_energy": Tp}}
+
+
+# ---- composite spheres -----------------------------------------------------------
+_CSA = {"K_p": None, "G_p": None, "E_p": None, "nu_p": None, "K_m": None, "G_m": None,
+        "E_m": None, "nu_m": None, "a": ..., "phi": None, "b": None, "cube_side": None,
+        "octant": False, "Dn": _INF, "Dt": None, "eps0": 1.0, "n_points": 201}
+
+
+def _moduli(p: dict[str, Any], phase: str) -> tuple[float, float | None]:
+    K, G, E, nu = (p[f"{k}_{phase}"] for k in ("K", "G", "E", "nu"))
+    if E is not None or nu is not None:
+        if K is not None or G is not None:
+            raise CaseError(f"give analytic.K_{phase}, G_{phase} or analytic.E_{phase}, "
+                            f"nu_{phase}, not both")
+        if E is None or nu is None:
+            raise CaseError(f"analytic.E_{phase} and analytic.nu_{phase} must be given together")
+        return bulk_shear_from_young_poisson(E, nu)
+    if K is None:
+        raise CaseError(f"composite_spheres needs analytic.K_{phase} (or E_{phase} and nu_{phase})")
+    return K, G
+
+
+def _csa(params: dict[str, Any]) -> tuple[CompositeSpheres, dict[str, Any]]:
+    p = _take(params, "composite_spheres", _CSA)
+    K_p, _ = _moduli(p, "p")
+    K_m, G_m = _moduli(p, "m")
+    if G_m is None:
+        raise CaseError("composite_spheres needs analytic.G_m (or E_m and nu_m)")
+    given = [k for k in ("phi", "b", "cube_side") if p[k] is not None]
+    if len(given) != 1:
+        raise CaseError("composite_spheres needs exactly one of analytic.phi, analytic.b, "
+                        f"analytic.cube_side, got {given or 'none'}")
+    a = positive("a", p["a"])
+    if p["phi"] is not None:
+        phi = p["phi"]
+    elif p["b"] is not None:
+        b = positive("b", p["b"])
+        if b <= a:
+            raise CaseError(f"analytic.b must be > a = {a:g} mm, got {b:g}")
+        phi = (a / b) ** 3
+    else:
+        phi = sphere_in_cube_volume_fraction(a, p["cube_side"], octant=bool(p["octant"]))
+    return CompositeSpheres(K_p, K_m, G_m, phi, a, p["Dn"]), p
+
+
+def composite_spheres(**params) -> dict[str, float]:
+    """Bulk modulus of the composite spheres assemblage with a spring interface (000 Sec 3)."""
+    m, _ = _csa(params)
+    perfect = CompositeSpheres(m.K_p, m.K_m, m.G_m, m.phi, m.a, _INF).bulk_modulus
+    debonded = CompositeSpheres(m.K_p, m.K_m, m.G_m, m.phi, m.a, 0.0).bulk_modulus
+    return {"bulk_modulus": m.bulk_modulus, "bulk_modulus_perfect": perfect,
+            "bulk_modulus_debonded": debonded, "effective_particle_modulus": m.effective_particle_modulus,
+            "phi": m.phi}
+
+
+def composite_spheres_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
+    """Radial displacement and stress through particle and shell for u(b) = eps0 b."""
+    m, p = _csa(params)
+    if m.phi == 0.0:
+        raise CaseError("analytic.phi = 0 has no finite shell to plot; use phi > 0")
+    n = _n_points(p["n_points"])
+    r = np.concatenate([np.linspace(0.0, m.a, n // 2), np.nextafter(m.a, np.inf) +
+                        np.linspace(0.0, m.b - m.a, n - n // 2)])
+    r = np.minimum(r, m.b)
+    return {"radial": {"r": r, "u_r": m.radial_displacement(r, p["eps0"]),
+                       "sigma_rr": m.radial_stress(r, p["eps0"])}}
+
+
+MODELS: dict[str, Callable[..., dict[str, float]]] = {
+    "dls_shear_lag": dls_shear_lag,
+    "dcb_beam_foundation": dcb_beam_foundation,
+    "wave_transmission": wave_transmission_model,
+    "composite_spheres": composite_spheres,
+}
+
+PROFILES: dict[str, Callable[..., dict[str, dict[str, np.ndarray]]]] = {
+    "dls_shear_lag": dls_profiles,
+    "dcb_beam_foundation": dcb_profiles,
+    "wave_transmission": wave_profiles,
+    "composite_spheres": composite_spheres_profiles,
+}
+
+
+def model_names() -> list[str]:
+    """Names accepted as ``case.analytic["model"]``."""
+    return sorted(MODELS)
