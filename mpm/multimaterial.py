@@ -295,6 +295,12 @@ def _thickness_array(thickness) -> np.ndarray:
     return t
 
 
+def _node_list(nodes, n: int) -> np.ndarray:
+    if nodes is None:
+        return np.arange(n, dtype=np.int64)
+    return np.ascontiguousarray(nodes, dtype=np.int64)
+
+
 def _check_lr(tables: MultimaterialTables, lr, n, m, d):
     if lr is None:
         if tables.uses_lr:
@@ -307,7 +313,7 @@ def _check_lr(tables: MultimaterialTables, lr, n, m, d):
 def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: np.ndarray,
                      volume: np.ndarray, volume_gradient: np.ndarray, displacement: np.ndarray,
                      position: np.ndarray, cell: np.ndarray, tables: MultimaterialTables,
-                     dt: float, thickness=1.0, lr=None) -> int:
+                     dt: float, thickness=1.0, lr=None, nodes: np.ndarray | None = None) -> int:
     """Contact / perfect-bond momentum correction on multimaterial nodes (004 Eq 26-34).
 
     ``phase`` 0: after the initial extrapolation (004 Eq 26, Delta p^alpha; momenta
@@ -322,7 +328,9 @@ def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: 
     the finite directions get forces in :func:`add_interface_forces`.  Nodes with 3+
     materials lump the others into a virtual material (000 Sec 2.6, 004 Eq 50); rigid
     fields follow 000 Eq 28-31.  In phase 1 the separation is advanced to the end of
-    the step, delta + dt (v_b - v_a).  Returns the number of nodes changed.
+    the step, delta + dt (v_b - v_a).  ``nodes`` (int64) restricts the work to those
+    node indices (e.g. the core's list of nodes with 2+ fields); default all nodes.
+    Returns the number of nodes changed.
     """
     n, m = mass.shape
     d = momentum.shape[2]
@@ -331,14 +339,15 @@ def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: 
         int(phase), mass, momentum, force, volume, volume_gradient, displacement, position,
         np.asarray(cell, dtype=np.float64), _thickness_array(thickness), tables.law_kind,
         tables.law_params, tables.settings, tables.rigid, tables.node_zone, tables.zone_pairs,
-        tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt))
+        tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt), _node_list(nodes, n))
 
 
 def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndarray,
                          volume_gradient: np.ndarray, displacement: np.ndarray,
                          position: np.ndarray, cell: np.ndarray, thickness,
                          tables: MultimaterialTables, dt: float, force: np.ndarray,
-                         node_out: np.ndarray | None = None, lr=None) -> float:
+                         node_out: np.ndarray | None = None, lr=None,
+                         nodes: np.ndarray | None = None) -> float:
     """Imperfect-interface forces on multimaterial nodes (000 Eq 17-27, 002 Eq 37-39).
 
     For every node where an imperfect-interface pair meets: jump [u] = u_b - u_a
@@ -354,6 +363,7 @@ def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndar
     Returns U = sum_i 1/2 (Dn [u_n]^2 + Dt [u_t]^2) A_i (ERRATA 10).  If ``node_out``
     (N, NODE_OUT_COLUMNS) is given it is overwritten with per-node jump, traction,
     normal, area, energy and status (columns OUT_* in mpm.multimaterial_constants).
+    ``nodes`` (int64) restricts the work to those node indices (default all nodes).
     """
     n, m = mass.shape
     d = momentum.shape[2]
@@ -366,4 +376,5 @@ def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndar
         mass, momentum, volume, volume_gradient, displacement, position,
         np.asarray(cell, dtype=np.float64), _thickness_array(thickness), tables.law_kind,
         tables.law_params, tables.settings, tables.rigid, tables.node_zone, tables.zone_pairs,
-        tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt), force, node_out)
+        tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt), force, node_out,
+        _node_list(nodes, n))

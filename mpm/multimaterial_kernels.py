@@ -223,9 +223,9 @@ def _delta_p(code, law, dp0, n, dn, approaching, touching, out) -> bool:
         normal_perfect = False
         if math.isinf(dn_t) and math.isinf(dn_c):
             normal_perfect = True                 # bonded in the normal direction
-        elif dn < 0.0 and math.isinf(dn_c):
+        elif dn <= 0.0 and math.isinf(dn_c):
             normal_perfect = approaching          # perfect in compression = contact
-        elif dn >= 0.0 and math.isinf(dn_t):
+        elif dn > 0.0 and math.isinf(dn_t):
             normal_perfect = True
         if normal_perfect:
             for k in range(d):
@@ -296,7 +296,7 @@ def _cell_volume(cell, thick, i) -> float:
 @njit(cache=True)
 def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell, thick, kind, params,
                             settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
-                            lr_normal, lr_sep, dt) -> int:
+                            lr_normal, lr_sep, dt, nodes) -> int:
     """Contact corrections on all multimaterial nodes (see mpm.multimaterial.correct_momentum)."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
@@ -309,7 +309,8 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
     one = np.empty(d)
     inv_dt = 1.0 / dt if dt > 0.0 else 0.0
     count = 0
-    for i in range(n_nodes):
+    for ii in range(nodes.shape[0]):
+        i = nodes[ii]
         npres = _present_fields(mass[i], tol, present)
         if npres < 2:
             continue
@@ -434,7 +435,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
     jt = np.empty(d)
     for k in range(d):
         jt[k] = jump[k] - dn * n[k]
-    dn_stiff = law[P_DN_COMPRESSION] if dn < 0.0 else law[P_DN_TENSION]   # bilinear, 002 Sec 2.4
+    dn_stiff = law[P_DN_COMPRESSION] if dn <= 0.0 else law[P_DN_TENSION]   # bilinear, 002 Sec 2.4
     dt_stiff = law[P_DT]
     n_finite = not math.isinf(dn_stiff)
     t_finite = not math.isinf(dt_stiff)
@@ -444,7 +445,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
         for k in range(d):
             ft[k] = dt_stiff * jt[k] * area
     status = STATUS_INTERFACE
-    if dn < 0.0:
+    if dn <= 0.0:
         status += STATUS_CONTACT
     e_n = 0.5 * dn_stiff * dn * dn * area if n_finite else 0.0
     e_t = 0.5 * dt_stiff * _dot(jt, jt) * area if t_finite else 0.0
@@ -502,7 +503,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
 @njit(cache=True)
 def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, params, settings, rigid,
                             node_zone, zone_pairs, zone_kind, zone_params, lr_normal, lr_sep, dt,
-                            force, node_out) -> float:
+                            force, node_out, nodes) -> float:
     """Interface forces on all multimaterial nodes (see mpm.multimaterial.add_interface_forces)."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
@@ -516,7 +517,8 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
     law = np.empty(4)
     one = np.empty(d)
     total = 0.0
-    for i in range(n_nodes):
+    for ii in range(nodes.shape[0]):
+        i = nodes[ii]
         npres = _present_fields(mass[i], tol, present)
         if npres < 2:
             continue
