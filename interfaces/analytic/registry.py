@@ -12,9 +12,11 @@ Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
 
 * ``dls_shear_lag`` (002 Eq 40-42, App. A): t1, E1, G1 (outer strip; aliases t, E_yy,
   G_xy), t2, E2, G2 (central strip, default = outer), l, W, L = 0, Dt = inf,
-  layer_shear = False; profile options P = 1, n_points = 201.
+  layer_shear = False; profile options P = 1, n_points = 201, origin = (0, 0) and
+  axis = (0, 1) (the bond line start, at the loaded end of the central strip, and direction).
 * ``dcb_beam_foundation`` (002 Eq 46-47, App. B): a, h, W, E_xx, Dn = inf, kb = inf;
-  profile options P = 1, n_points = 201, x_max = 10 Delta (bonded length shown).
+  profile options P = 1, n_points = 201, x_max = 10 Delta (bonded length shown),
+  origin = (0, 0) and axis = (1, 0) (crack tip and direction into the bonded region).
 * ``wave_transmission`` (002 Eq 48, ERRATA 6): f, Dn, and either Z1 [, Z2] or
   rho, E or v [, rho2, E2 or v2] (material 2 defaults to material 1);
   profile options n_points = 61.
@@ -75,7 +77,8 @@ def _n_points(value) -> int:
 
 # ---- double lap shear ------------------------------------------------------------
 _DLS = {"t1": ..., "E1": ..., "G1": ..., "t2": None, "E2": None, "G2": None, "l": ..., "W": ...,
-        "L": 0.0, "Dt": _INF, "layer_shear": False, "P": 1.0, "n_points": 201}
+        "L": 0.0, "Dt": _INF, "layer_shear": False, "P": 1.0, "n_points": 201,
+        "origin": (0.0, 0.0), "axis": (0.0, 1.0)}
 _DLS_ALIASES = {"t": "t1", "E_yy": "E1", "G_xy": "G1"}
 
 
@@ -100,17 +103,45 @@ def dls_shear_lag(**params) -> dict[str, float]:
 
 
 def dls_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
-    """Stresses and interface slip along the bond for the load P (002 Eq A.2, A.7, A.8)."""
+    """Stresses and interface slip along the bond for the load P (002 Eq A.2, A.7, A.8).
+
+    ``bond``: y from the loaded end of the central strip, <s1>, <s2>, tau, jump_t.
+    ``interface_jump`` (the shared profile convention of docs/case_api.md): s = y,
+    x, y = origin + s axis, jump_t = tau/Dt = u_central - u_outer along the bond
+    direction, traction_t = tau (on the outer strip); jump_n, traction_n are NaN
+    (the shear-lag model does not describe the normal direction).
+    """
     m, p = _dls(params)
     y = np.linspace(0.0, m.l, _n_points(p["n_points"]))
     s1, s2 = m.axial_stress(y, p["P"])
-    return {"bond": {"y": y, "shear_stress": m.shear_stress(y, p["P"]), "axial_stress_outer": s1,
-                     "axial_stress_central": s2, "jump_t": m.interface_slip(y, p["P"])}}
+    tau = m.shear_stress(y, p["P"])
+    jump = m.interface_slip(y, p["P"])
+    nan = np.full_like(y, np.nan)
+    return {"bond": {"y": y, "shear_stress": tau, "axial_stress_outer": s1,
+                     "axial_stress_central": s2, "jump_t": jump},
+            "interface_jump": {"s": y, **_placed(y, p), "jump_n": nan, "jump_t": jump,
+                               "traction_n": nan, "traction_t": tau}}
+
+
+def _placed(s: np.ndarray, p: dict[str, Any]) -> dict[str, np.ndarray]:
+    """x, y of points at arc length s on the straight interface origin + s axis."""
+    try:
+        o = np.asarray(p["origin"], dtype=float).reshape(2)
+        d = np.asarray(p["axis"], dtype=float).reshape(2)
+    except (TypeError, ValueError):
+        raise CaseError(f"analytic.origin and analytic.axis must be 2-vectors, got "
+                        f"{p['origin']!r} and {p['axis']!r}") from None
+    norm = float(np.hypot(*d))
+    if not (np.all(np.isfinite(o)) and np.isfinite(norm) and norm > 0.0):
+        raise CaseError(f"analytic.axis must be a finite non-zero 2-vector and origin finite, "
+                        f"got axis {p['axis']!r}, origin {p['origin']!r}")
+    d = d / norm
+    return {"x": o[0] + s * d[0], "y": o[1] + s * d[1]}
 
 
 # ---- double cantilever beam ------------------------------------------------------
 _DCB = {"a": ..., "h": ..., "W": ..., "E_xx": ..., "Dn": _INF, "kb": _INF,
-        "P": 1.0, "n_points": 201, "x_max": None}
+        "P": 1.0, "n_points": 201, "x_max": None, "origin": (0.0, 0.0), "axis": (1.0, 0.0)}
 
 
 def _dcb(params: dict[str, Any]) -> tuple[DoubleCantileverBeam, dict[str, Any]]:
@@ -126,8 +157,10 @@ def dcb_beam_foundation(**params) -> dict[str, float]:
 
 
 def dcb_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
-    """Arm deflection v(x) (002 Eq B.3, B.6), opening 2v, and the interface opening
-    [u_n] = k1 v/(W Dn) along the bond x >= 0 (2v when kb = inf)."""
+    """Arm deflection v(x) (002 Eq B.3, B.6) and opening 2v for -a <= x <= x_max; and
+    ``interface_jump`` along the bond (s = x >= 0 from the crack tip, placed at
+    origin + s axis): traction_n = k1 v/W (the foundation load over the width),
+    [u_n] = traction_n/Dn (= 2v when kb = inf), no shear (symmetry)."""
     m, p = _dcb(params)
     x_max = p["x_max"]
     x_max = (10.0 * m.Delta if m.Delta > 0.0 else m.a) if x_max is None else positive("x_max", x_max)
@@ -135,10 +168,15 @@ def dcb_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     v = m.deflection(x, p["P"])
     # the interface spring carries the foundation load k1 v per unit length over the width W
     xb = np.linspace(0.0, x_max, _n_points(p["n_points"]))
-    jump = (np.zeros_like(xb) if math.isinf(m.Dn)
-            else m.deflection(xb, p["P"]) / (m.W * m.Dn * m.foundation_compliance))
+    if m.foundation_compliance == 0.0:  # clamped arms: concentrated reaction, no distributed traction
+        traction = np.full_like(xb, np.nan)
+        jump = np.zeros_like(xb)
+    else:
+        traction = m.deflection(xb, p["P"]) / (m.W * m.foundation_compliance)
+        jump = np.zeros_like(xb) if math.isinf(m.Dn) else traction / m.Dn
     return {"deflection": {"x": x, "v": v, "opening": 2.0 * v},
-            "interface": {"x": xb, "jump_n": jump}}
+            "interface_jump": {"s": xb, **_placed(xb, p), "jump_n": jump, "jump_t": np.zeros_like(xb),
+                               "traction_n": traction, "traction_t": np.zeros_like(xb)}}
 
 
 # ---- wave transmission -----------------------------------------------------------
