@@ -86,12 +86,16 @@ class NodalFields:
     volume_gradient: np.ndarray = field(init=False)
     displacement: np.ndarray = field(init=False)
     position: np.ndarray = field(init=False)
+    velocity: np.ndarray = field(init=False)      # core only: p/m for G2P
+    acceleration: np.ndarray = field(init=False)  # core only: f/m for G2P
 
     def __post_init__(self):
         N, M, D = self.N, self.M, self.D
         self.mass = np.zeros((N, M))
         self.momentum = np.zeros((N, M, D))
         self.force = np.zeros((N, M, D))
+        self.velocity = np.zeros((N, M, D))
+        self.acceleration = np.zeros((N, M, D))
         multi = M > 1
         # the multimaterial-only arrays are allocated with zero nodes in single-material runs
         Nm = N if multi else 0

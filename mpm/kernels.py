@@ -15,12 +15,23 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .shape import shape_2d_work
+from .shape import axis_weights, shape_2d_work
 
 # -------------------------------------------------------------------- P2G ----
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always", fastmath=True)
+def _support(x, y, origin, cell, nn, lp, kind, wx, dwx, wy, dwy):
+    """1D weights along x and y of one particle; returns (i0, j0, nodes along x,
+    nodes along y), the counts -1 if the support leaves the grid."""
+    i0, nax = axis_weights(x, origin[0], cell[0], lp[0], kind, wx, dwx)
+    j0, nay = axis_weights(y, origin[1], cell[1], lp[1], kind, wy, dwy)
+    if i0 < 0 or j0 < 0 or i0 + nax > nn[0] or j0 + nay > nn[1]:
+        return i0, j0, -1, -1
+    return i0, j0, nax, nay
+
+
+@njit(cache=True, fastmath=True)
 def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, load_scale,
            origin, cell, nn, lp, kind, multi, internal,
            mass, mom, force, volume, volgrad, disp, pos):
@@ -40,17 +51,14 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, load_scale,
         volgrad[:] = 0.0
         disp[:] = 0.0
         pos[:] = 0.0
-    idx = np.empty(9, np.int64)
-    S = np.empty(9)
-    G = np.empty((9, 2))
     wx = np.empty(3)
     dwx = np.empty(3)
     wy = np.empty(3)
     dwy = np.empty(3)
+    nx = nn[0]
     for p in range(x.shape[0]):
-        c = shape_2d_work(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G,
-                          wx, dwx, wy, dwy)
-        if c < 0:
+        i0, j0, nax, nay = _support(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, dwx, wy, dwy)
+        if nax < 0:
             return p
         f = field[p]
         m = pmass[p]
@@ -67,24 +75,26 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, load_scale,
             sxx = 0.0
             syy = 0.0
             sxy = 0.0
-        for k in range(c):
-            n = idx[k]
-            s = S[k]
-            gx = G[k, 0]
-            gy = G[k, 1]
-            mass[n, f] += s * m
-            mom[n, f, 0] += s * mvx
-            mom[n, f, 1] += s * mvy
-            force[n, f, 0] += s * fx - V * (sxx * gx + sxy * gy)
-            force[n, f, 1] += s * fy - V * (sxy * gx + syy * gy)
-            if multi:
-                volume[n, f] += s * V
-                volgrad[n, f, 0] += gx * V
-                volgrad[n, f, 1] += gy * V
-                disp[n, f, 0] += s * m * (x[p, 0] - x0[p, 0])
-                disp[n, f, 1] += s * m * (x[p, 1] - x0[p, 1])
-                pos[n, f, 0] += s * m * x[p, 0]
-                pos[n, f, 1] += s * m * x[p, 1]
+        for b in range(nay):
+            row = (j0 + b) * nx + i0
+            for a in range(nax):
+                s = wx[a] * wy[b]
+                gx = dwx[a] * wy[b]
+                gy = wx[a] * dwy[b]
+                n = row + a
+                mass[n, f] += s * m
+                mom[n, f, 0] += s * mvx
+                mom[n, f, 1] += s * mvy
+                force[n, f, 0] += s * fx - V * (sxx * gx + sxy * gy)
+                force[n, f, 1] += s * fy - V * (sxy * gx + syy * gy)
+                if multi:
+                    volume[n, f] += s * V
+                    volgrad[n, f, 0] += gx * V
+                    volgrad[n, f, 1] += gy * V
+                    disp[n, f, 0] += s * m * (x[p, 0] - x0[p, 0])
+                    disp[n, f, 1] += s * m * (x[p, 1] - x0[p, 1])
+                    pos[n, f, 0] += s * m * x[p, 0]
+                    pos[n, f, 1] += s * m * x[p, 1]
     if multi:
         for n in range(mass.shape[0]):
             for f in range(mass.shape[1]):
@@ -96,7 +106,7 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, load_scale,
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True)
 def p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force):
     """Add the internal force -V_p sigma_p . grad S_ip to ``force`` (USF second pass)."""
     idx = np.empty(9, np.int64)
@@ -139,7 +149,7 @@ def multimaterial_nodes(mass):
 # ------------------------------------------------------------ grid update ----
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True)
 def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel):
     """Momentum update p+ = p + (f - alpha p) dt (004 Eq 30) with grid damping alpha,
     then nodal velocity conditions per field: p+ = m v_bc and f += (m v_bc - p+)/dt.
@@ -180,7 +190,20 @@ def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel)
 # -------------------------------------------------------- G2P and stress ----
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=True)
+def nodal_kinematics(mass, mom, force, nvel, nacc):
+    """Nodal velocity v = p/m and acceleration a = f/m per field (0 where m = 0)."""
+    N, M, D = mom.shape
+    for n in range(N):
+        for f in range(M):
+            m = mass[n, f]
+            inv = 1.0 / m if m > 0.0 else 0.0
+            for d in range(D):
+                nvel[n, f, d] = mom[n, f, d] * inv
+                nacc[n, f, d] = force[n, f, d] * inv
+
+
+@njit(cache=True, inline="always", fastmath=True)
 def _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol):
     """Incremental small strain d_eps = sym(L) dt (engineering shear), sigma += C d_eps."""
     e0 = L00 * dt
@@ -194,20 +217,18 @@ def _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol):
     pvol[p] *= 1.0 + e0 + e1
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True)
 def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, load_scale, C,
            origin, cell, nn, lp, kind, dt, pic, update_stress,
-           mass, mom, force):
+           nvel, nacc):
     """Grid-to-particle update (004 Eq 28, 32 with f^{C,1}) and USL stress update.
 
-    a = force/mass and v+ = momentum/mass of the particle's own field;
+    a = force/mass (``nacc``) and v+ = momentum/mass (``nvel``) of the particle's own
+    field, from :func:`nodal_kinematics`;
     V <- (1 - pic)(V + dt S a) + pic S v+; x <- x + dt S v+; L = sum v+ (x) grad S.
     Returns (kinetic energy, strain energy, work of the external forces this step,
     index of a particle that left the grid or -1).
     """
-    idx = np.empty(9, np.int64)
-    S = np.empty(9)
-    G = np.empty((9, 2))
     wx = np.empty(3)
     dwx = np.empty(3)
     wy = np.empty(3)
@@ -216,10 +237,10 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, load_scale, C,
     U = 0.0
     work = 0.0
     lost = -1
+    nx = nn[0]
     for p in range(x.shape[0]):
-        c = shape_2d_work(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G,
-                          wx, dwx, wy, dwy)
-        if c < 0:
+        i0, j0, nax, nay = _support(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, dwx, wy, dwy)
+        if nax < 0:
             lost = p
             continue
         f = field[p]
@@ -231,23 +252,23 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, load_scale, C,
         L01 = 0.0
         L10 = 0.0
         L11 = 0.0
-        for k in range(c):
-            n = idx[k]
-            m = mass[n, f]
-            if m <= 0.0:
-                continue
-            inv = 1.0 / m
-            s = S[k]
-            ax += s * force[n, f, 0] * inv
-            ay += s * force[n, f, 1] * inv
-            vnx = mom[n, f, 0] * inv
-            vny = mom[n, f, 1] * inv
-            vx += s * vnx
-            vy += s * vny
-            L00 += vnx * G[k, 0]
-            L01 += vnx * G[k, 1]
-            L10 += vny * G[k, 0]
-            L11 += vny * G[k, 1]
+        for b in range(nay):
+            row = (j0 + b) * nx + i0
+            for a in range(nax):
+                n = row + a
+                s = wx[a] * wy[b]
+                gx = dwx[a] * wy[b]
+                gy = wx[a] * dwy[b]
+                ax += s * nacc[n, f, 0]
+                ay += s * nacc[n, f, 1]
+                vnx = nvel[n, f, 0]
+                vny = nvel[n, f, 1]
+                vx += s * vnx
+                vy += s * vny
+                L00 += vnx * gx
+                L01 += vnx * gy
+                L10 += vny * gx
+                L11 += vny * gy
         work += load_scale * (fext[p, 0] * vx + fext[p, 1] * vy) * dt
         x[p, 0] += dt * vx
         x[p, 1] += dt * vy
@@ -261,7 +282,7 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, load_scale, C,
     return ke, U, work, lost
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True)
 def usf_stress_2d(x, pvol, stress, strain, field, C, origin, cell, nn, lp, kind, dt,
                   mass, mom):
     """USF stress update: L from the (contact-corrected) extrapolated velocities."""
@@ -309,7 +330,7 @@ def ramp(t, ramp_time):
 def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
                  x, v, pmass, pvol, pvol0, stress, strain, field, x0, fext, C,
                  origin, cell, nn, lp, kind,
-                 mass, mom, force, volume, volgrad, disp, pos,
+                 mass, mom, force, volume, volgrad, disp, pos, nvel, nacc,
                  bc_node, bc_field, bc_comp, bc_vel, bc_tend,
                  hist, ke_prev):
     """``nsteps`` complete time steps of a run without multimaterial nodes.
@@ -338,9 +359,10 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
         for b in range(bc_vel.size):
             vel[b] = bc_vel[b] if t < bc_tend[b] else 0.0
         diss, wbc = grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, vel)
+        nodal_kinematics(mass, mom, force, nvel, nacc)
         ke, U, work, lost = g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext,
                                    scale, C, origin, cell, nn, lp, kind, dt, pic, not usf,
-                                   mass, mom, force)
+                                   nvel, nacc)
         if lost >= 0:
             return s, lost
         t += dt

@@ -28,7 +28,7 @@ SHAPE_CODES = {"linear": LINEAR, "ugimp": UGIMP, "gimp": UGIMP}
 NODES_PER_AXIS = (2, 3)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", fastmath=True)
 def gimp_1d(r: float, h: float, lp: float):
     """1D uGIMP weight and derivative d/dx_p for r = x_p - x_i."""
     a = abs(r)
@@ -43,7 +43,7 @@ def gimp_1d(r: float, h: float, lp: float):
     return 0.0, 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", fastmath=True)
 def linear_1d(r: float, h: float):
     """1D linear (tent) weight and derivative d/dx_p for r = x_p - x_i."""
     a = abs(r)
@@ -52,24 +52,33 @@ def linear_1d(r: float, h: float):
     return 0.0, 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", fastmath=True)
 def axis_weights(x: float, o: float, h: float, lp: float, kind: int,
-                 w: np.ndarray, dw: np.ndarray) -> int:
-    """Fill w[k], dw[k] for the nodes i0 + k along one axis; return i0.
+                 w: np.ndarray, dw: np.ndarray):
+    """Fill w[k], dw[k] for the nodes i0 + k, k < count, along one axis; return (i0, count).
 
-    Linear: i0 = floor((x - o)/h), nodes i0, i0+1. uGIMP: i0 = nearest node - 1,
-    nodes i0 .. i0+2 (every node within h + l_p of x, as l_p <= h/2).
+    Linear: i0 = floor((x - o)/h), nodes i0, i0+1. uGIMP: the nodes within h + l_p of x
+    (l_p <= h/2): nearest node +- 1, trimmed to 2 when an end node has zero weight
+    and gradient (undeformed particles of a 2-per-cell lattice touch 2 nodes per axis).
     """
     xi = (x - o) / h
     if kind == LINEAR:
         i0 = int(np.floor(xi))
         for k in range(2):
             w[k], dw[k] = linear_1d(x - (o + (i0 + k) * h), h)
-        return i0
+        return i0, 2
     i0 = int(np.floor(xi + 0.5)) - 1
     for k in range(3):
         w[k], dw[k] = gimp_1d(x - (o + (i0 + k) * h), h, lp)
-    return i0
+    if w[0] == 0.0 and dw[0] == 0.0:
+        w[0] = w[1]
+        dw[0] = dw[1]
+        w[1] = w[2]
+        dw[1] = dw[2]
+        return i0 + 1, 2
+    if w[2] == 0.0 and dw[2] == 0.0:
+        return i0, 2
+    return i0, 3
 
 
 @njit(cache=True)
@@ -87,18 +96,17 @@ def shape_2d(x: float, y: float, origin: np.ndarray, cell: np.ndarray, nn: np.nd
     return shape_2d_work(x, y, origin, cell, nn, lp, kind, idx, S, G, wx, dwx, wy, dwy)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", fastmath=True)
 def shape_2d_work(x, y, origin, cell, nn, lp, kind, idx, S, G, wx, dwx, wy, dwy) -> int:
     """:func:`shape_2d` with caller-provided 1D work arrays (no allocation; hot loops)."""
-    na = 2 if kind == LINEAR else 3
-    i0 = axis_weights(x, origin[0], cell[0], lp[0], kind, wx, dwx)
-    j0 = axis_weights(y, origin[1], cell[1], lp[1], kind, wy, dwy)
-    if i0 < 0 or j0 < 0 or i0 + na > nn[0] or j0 + na > nn[1]:
+    i0, nax = axis_weights(x, origin[0], cell[0], lp[0], kind, wx, dwx)
+    j0, nay = axis_weights(y, origin[1], cell[1], lp[1], kind, wy, dwy)
+    if i0 < 0 or j0 < 0 or i0 + nax > nn[0] or j0 + nay > nn[1]:
         return -1
     c = 0
-    for b in range(na):
+    for b in range(nay):
         row = (j0 + b) * nn[0]
-        for a in range(na):
+        for a in range(nax):
             s = wx[a] * wy[b]
             if s == 0.0 and dwx[a] == 0.0 and dwy[b] == 0.0:
                 continue

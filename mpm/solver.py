@@ -133,7 +133,8 @@ class _Runner:
                 pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                 pt.x0, pt.fext, m.C, m.grid.origin, m.grid.cell, m.grid.nn, pt.lp, m.kind,
                 nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
-                nd.displacement, nd.position, bc.node, bc.field, bc.comp, bc.vel, bc.t_end,
+                nd.displacement, nd.position, nd.velocity, nd.acceleration,
+                bc.node, bc.field, bc.comp, bc.vel, bc.t_end,
                 hist, self.ke_prev)
         else:
             done, lost = self._advance_multimaterial(nsteps, hist, usf, kinetic)
@@ -186,10 +187,11 @@ class _Runner:
                                       bc.node, bc.field, bc.comp, vel)
             if multi:
                 mm.correct_momentum(1, *args)
+            K.nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
             ke, U, work, lost = K.g2p_2d(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
                                          pt.strain, pt.field, pt.fext, scale, m.C, g.origin,
                                          g.cell, g.nn, pt.lp, m.kind, m.dt, m.opts["pic"],
-                                         not usf, nd.mass, nd.momentum, nd.force)
+                                         not usf, nd.velocity, nd.acceleration)
             if lost >= 0:
                 return s, lost
             t += m.dt
