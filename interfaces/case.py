@@ -136,14 +136,17 @@ class BoundaryCondition:
             raise CaseError(f"kind must be one of {', '.join(BC_KINDS)}, got {self.kind!r}")
         if self.side not in SIDES:
             raise CaseError(f"side must be one of {', '.join(SIDES)}, got {self.side!r}")
-        comps = tuple(self.components) if not isinstance(self.components, str) else tuple(self.components)
-        if not comps or any(c not in COMPONENTS for c in comps) or len(set(comps)) != len(comps):
+        comps = tuple(self.components) if isinstance(self.components, (list, tuple, str)) else None
+        if (not comps or any(not isinstance(c, str) or c not in COMPONENTS for c in comps)
+                or len(set(comps)) != len(comps)):
             raise CaseError(f"components must be distinct letters from x, y, z, got {self.components!r}")
         self.components = comps
-        try:
-            vals = tuple(self.value) if not isinstance(self.value, (int, float)) else (self.value,)
-        except TypeError:
-            raise CaseError(f"value must be a list of numbers, got {self.value!r}") from None
+        if isinstance(self.value, (list, tuple)):
+            vals = tuple(self.value)
+        elif isinstance(self.value, (int, float)) and not isinstance(self.value, bool):
+            vals = (self.value,)
+        else:
+            raise CaseError(f"value must be a list of numbers, got {self.value!r}")
         if self.kind == "fixed" and vals == (0.0, 0.0) and len(comps) != 2:
             vals = (0.0,) * len(comps)
         if self.kind == "deformation_gradient":

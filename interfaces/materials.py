@@ -209,7 +209,7 @@ class TransverselyIsotropicElastic(Material):
         for name in ("E_A", "E_T", "G_A"):
             object.__setattr__(self, name, check_number(name, getattr(self, name), low=0, low_open=True))
         object.__setattr__(self, "nu_T", check_number("nu_T", self.nu_T, low=-1, high=1, low_open=True, high_open=True))
-        nu_A = check_number("nu_A", self.nu_A)
+        nu_A = check_number("nu_A", self.nu_A, low=-10.0, high=10.0)
         object.__setattr__(self, "nu_A", nu_A)
         object.__setattr__(self, "rho", check_number("rho", self.rho, low=0, low_open=True))
         if not 1 - self.nu_T - 2 * nu_A**2 * self.E_T / self.E_A > 0:

@@ -1,0 +1,126 @@
+"""Run one case through several methods and compare every quantity to the reference.
+
+The reference is the case's ``reference`` (the analytic model where one exists, FEM
+for the CPD square); each method's relative difference to it is tabulated, written to
+CSV and plotted (``cases.plots``).
+"""
+from __future__ import annotations
+
+import csv
+import io
+import math
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from interfaces import Case, Result
+
+from .methods import resolve_methods, run
+
+
+@dataclass
+class Comparison:
+    """Results of several methods on one case, with differences to the reference."""
+
+    case: Case
+    results: dict
+    reference: str | None
+    failures: dict = field(default_factory=dict)
+
+    def quantity_names(self) -> list[str]:
+        names: list[str] = []
+        for r in self.results.values():
+            for k, v in r.quantities.items():
+                if k not in names and _is_number(v):
+                    names.append(k)
+        return names
+
+    def value(self, method: str, quantity: str) -> float:
+        v = self.results[method].quantities.get(quantity, math.nan)
+        return float(v) if _is_number(v) else math.nan
+
+    def relative_difference(self, method: str, quantity: str) -> float:
+        """(value - reference) / |reference|, NaN without a reference value."""
+        if self.reference is None or self.reference not in self.results:
+            return math.nan
+        ref = self.value(self.reference, quantity)
+        val = self.value(method, quantity)
+        if not math.isfinite(ref) or ref == 0 or not math.isfinite(val):
+            return math.nan
+        return (val - ref) / abs(ref)
+
+    def rows(self) -> list[dict]:
+        out = []
+        for q in self.quantity_names():
+            for m in self.results:
+                out.append({"quantity": q, "method": m, "value": self.value(m, q),
+                            "reference": self.reference or "",
+                            "relative_difference": self.relative_difference(m, q),
+                            "time_s": self.results[m].timings.get("total", math.nan)})
+        return out
+
+    def to_csv(self, path=None) -> str:
+        buf = io.StringIO()
+        w = csv.DictWriter(buf, fieldnames=["quantity", "method", "value", "reference", "relative_difference", "time_s"])
+        w.writeheader()
+        for r in self.rows():
+            w.writerow(r)
+        if path is not None:
+            Path(path).write_text(buf.getvalue())
+        return buf.getvalue()
+
+    def table(self) -> str:
+        """Human-readable table: one row per quantity, one column per method."""
+        methods = list(self.results)
+        head = f"{'quantity':<22}" + "".join(f"{m:>24}" for m in methods)
+        lines = [f"case {self.case.name}: {self.case.description}",
+                 f"reference: {self.reference or 'none'}", head, "-" * len(head)]
+        for q in self.quantity_names():
+            cells = []
+            for m in methods:
+                v = self.value(m, q)
+                d = self.relative_difference(m, q)
+                txt = "-" if math.isnan(v) else f"{v:.5g}"
+                if m != self.reference and math.isfinite(d):
+                    txt += f" ({100 * d:+.2f}%)"
+                cells.append(f"{txt:>24}")
+            lines.append(f"{q:<22}" + "".join(cells))
+        lines.append(f"{'time (s)':<22}" + "".join(f"{self.results[m].timings.get('total', math.nan):>24.3g}" for m in methods))
+        for m, r in self.results.items():
+            for w in r.diagnostics.get("warnings", []):
+                lines.append(f"warning ({m}): {w}")
+        for m, msg in self.failures.items():
+            lines.append(f"{m}: not run: {msg}")
+        return "\n".join(lines)
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def compare(case: Case, methods="all", options: dict | None = None, progress: bool = True,
+            skip_unavailable: bool = True) -> Comparison:
+    """Run ``methods`` (a list, comma string or ``"all"``) on ``case`` and compare.
+
+    ``options`` maps a method name to keyword options of its ``solve``. With
+    ``skip_unavailable`` a method that is not available is reported, not raised.
+    """
+    from .methods import MethodUnavailable
+
+    options = options or {}
+    names = resolve_methods(case, methods)
+    results, failures = {}, {}
+    for m in names:
+        if progress:
+            print(f"[{m}] running {case.name} ...", file=sys.stderr, flush=True)
+        try:
+            results[m] = run(case, m, **options.get(m, {}))
+        except MethodUnavailable as e:
+            if not skip_unavailable:
+                raise
+            failures[m] = str(e)
+            continue
+        if progress:
+            print(f"[{m}] done in {results[m].timings.get('total', float('nan')):.2f} s", file=sys.stderr, flush=True)
+    reference = case.reference if case.reference in results else None
+    return Comparison(case=case, results=results, reference=reference, failures=failures)

@@ -1,0 +1,128 @@
+"""Agreement plots: quantities by method against the reference, profiles on shared axes,
+and sweep curves (one per method) against a case parameter."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+STYLE = {"analytic": dict(color="k", ls="-", marker=None, lw=1.6),
+         "fem": dict(color="tab:blue", ls="--", marker="s", lw=1.2),
+         "mpm": dict(color="tab:red", ls=":", marker="o", lw=1.2),
+         "cpd": dict(color="tab:green", ls="-.", marker="^", lw=1.2)}
+UNITS = {"stiffness": "N/mm", "stiffness_energy": "N/mm", "strain_energy": "N mm", "interface_energy": "N mm",
+         "kinetic_energy": "N mm", "bulk_modulus": "MPa", "transmitted_energy": "-", "beta_l": "-",
+         "compliance": "mm/N", "interface_energy_density": "MPa"}
+LABELS = {"ux": "u_x (mm)", "uy": "u_y (mm)", "uz": "u_z (mm)", "jump_n": "[u_n] (mm)", "jump_t": "[u_t] (mm)",
+          "traction_n": "T_n (MPa)", "traction_t": "T_t (MPa)"}
+
+
+def _style(method: str) -> dict:
+    return STYLE.get(method, dict(color="tab:purple", ls="-", marker="x", lw=1.0))
+
+
+def plot_comparison(comparison, path) -> Path:
+    """One figure: a panel per quantity (value by method, reference as a line) and a
+    panel per profile component (all methods on the same axes)."""
+    quantities = comparison.quantity_names()
+    profile_panels = []
+    for r in comparison.results.values():
+        for pname, prof in r.profiles.items():
+            for key in prof:
+                if key in ("s", "x", "y", "z") or (pname, key) in profile_panels:
+                    continue
+                if np.ndim(prof[key]) == 1 and "s" in prof and len(prof[key]) == len(prof["s"]):
+                    profile_panels.append((pname, key))
+    n = len(quantities) + len(profile_panels)
+    ncol = min(3, max(n, 1))
+    nrow = max(1, math.ceil(n / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.6 * ncol, 3.6 * nrow), squeeze=False)
+    axes = axes.ravel()
+    methods = list(comparison.results)
+    for ax, q in zip(axes, quantities):
+        vals = [comparison.value(m, q) for m in methods]
+        for i, (m, v) in enumerate(zip(methods, vals)):
+            if math.isfinite(v):
+                ax.bar(i, v, color=_style(m)["color"], alpha=0.75)
+                d = comparison.relative_difference(m, q)
+                lab = f"{v:.4g}" + (f"\n{100 * d:+.1f}%" if m != comparison.reference and math.isfinite(d) else "")
+                ax.annotate(lab, (i, v), ha="center", va="bottom", fontsize=8)
+        if comparison.reference in comparison.results:
+            ref = comparison.value(comparison.reference, q)
+            if math.isfinite(ref):
+                ax.axhline(ref, color="k", lw=1, ls="--", label=f"reference ({comparison.reference})")
+                ax.legend(fontsize=7, loc="lower right")
+        ax.set_xticks(range(len(methods)), methods)
+        ax.set_title(f"{q} ({UNITS.get(q, '')})", fontsize=10)
+        finite = [v for v in vals if math.isfinite(v)]
+        if finite:
+            ax.set_ylim(0, 1.25 * max(finite) if max(finite) > 0 else None)
+    for ax, (pname, key) in zip(axes[len(quantities):], profile_panels):
+        for m, r in comparison.results.items():
+            prof = r.profiles.get(pname)
+            if prof is None or key not in prof:
+                continue
+            st = _style(m)
+            s, v = np.asarray(prof["s"], dtype=float), np.asarray(prof[key], dtype=float)
+            order = np.argsort(s)
+            ax.plot(s[order], v[order], color=st["color"], ls=st["ls"], lw=st["lw"], label=m,
+                    marker=st["marker"] if len(s) < 40 else None, ms=3)
+        ax.set_xlabel(f"distance along {pname} (mm)")
+        ax.set_ylabel(LABELS.get(key, key))
+        ax.set_title(f"{pname}: {key}", fontsize=10)
+        ax.legend(fontsize=7)
+    for ax in axes[n:]:
+        ax.axis("off")
+    fig.suptitle(f"{comparison.case.name}: {comparison.case.description}", fontsize=10)
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_sweep(sweep, path, x_transform: str | None = None) -> Path:
+    """Each quantity against the swept parameter, one curve per method.
+
+    ``x_transform="inverse"`` plots against 1/value (e.g. stiffness vs 1/Dt as 000 Fig 7
+    and 002 Fig 5); infinite values then sit at 0.
+    """
+    quantities = sweep.quantity_names()
+    n = max(1, len(quantities))
+    ncol = min(2, n)
+    nrow = math.ceil(n / ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(5.2 * ncol, 3.8 * nrow), squeeze=False)
+    axes = axes.ravel()
+    xs = np.asarray(sweep.values, dtype=float)
+    with np.errstate(divide="ignore"):
+        xplot = 1.0 / xs if x_transform == "inverse" else xs
+    for ax, q in zip(axes, quantities):
+        for m in sweep.methods:
+            y = np.array([sweep.value(i, m, q) for i in range(len(xs))], dtype=float)
+            ok = np.isfinite(y) & np.isfinite(xplot)
+            if not ok.any():
+                continue
+            st = _style(m)
+            order = np.argsort(xplot[ok])
+            ax.plot(xplot[ok][order], y[ok][order], color=st["color"], ls=st["ls"], marker=st["marker"] or ".",
+                    lw=st["lw"], label=m)
+        xl = f"1/{sweep.param}" if x_transform == "inverse" else sweep.param
+        ax.set_xlabel(xl)
+        ax.set_ylabel(f"{q} ({UNITS.get(q, '')})")
+        if x_transform == "log":
+            ax.set_xscale("log")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    for ax in axes[n:]:
+        ax.axis("off")
+    fig.suptitle(f"{sweep.case_name}: sweep of {sweep.param}", fontsize=10)
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
