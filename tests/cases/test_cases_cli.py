@@ -1,0 +1,78 @@
+"""The imperfect command line, comparisons and sweeps (analytic method: fast)."""
+import json
+import math
+
+import pytest
+
+import cases
+from cases.cli import main, parse_value
+from cases.compare import compare
+from cases.sweep import sweep
+
+
+def test_list_and_show(capsys):
+    assert main(["list"]) == 0
+    out = capsys.readouterr().out
+    for name in cases.names():
+        assert name in out
+    assert main(["show", "dls", "--set", "Dt=5"]) == 0
+    assert 'Dt = 5.0' in capsys.readouterr().out
+
+
+def test_parse_value():
+    assert parse_value("inf") == math.inf
+    assert parse_value("5") == 5 and isinstance(parse_value("5.0"), float)
+    assert parse_value("1,2,inf") == [1, 2, math.inf]
+    assert parse_value("vertical") == "vertical"
+
+
+def test_run_analytic_writes_results_csv_and_png(tmp_path, capsys):
+    out = tmp_path / "dls"
+    assert main(["run", "dls", "--methods", "analytic", "--set", "Dt=inf", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "beta_l" in text
+    data = json.loads((out / "results.json").read_text())
+    q = data["results"]["analytic"]["quantities"]
+    assert q["beta_l"] == pytest.approx(22.8, abs=0.05)  # 002 Sec 3.4
+    assert (out / "comparison.csv").read_text().startswith("quantity,method")
+    assert (out / "dls_comparison.png").stat().st_size > 1000
+
+
+def test_bad_override_and_unsupported_method_are_one_line_errors(tmp_path, capsys):
+    assert main(["run", "dls", "--set", "Dt=-1", "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err.strip() == "error: dls: Dt must be >= 0, got -1"
+    assert main(["run", "wave", "--methods", "fem", "--out", str(tmp_path)]) == 2
+    assert "does not support case 'wave'" in capsys.readouterr().err
+
+
+def test_compare_relative_differences_against_reference():
+    comp = compare(cases.build("dls", Dt=5.0), "analytic", progress=False)
+    assert comp.reference == "analytic"
+    assert comp.relative_difference("analytic", "stiffness") == 0.0
+    assert "stiffness" in comp.table()
+
+
+def test_sweep_stiffness_rises_with_Dt_like_002_fig5(tmp_path):
+    """Shear lag on the 002 specimen: about 0.4 kN/mm at Dt = 1 up to about 3.6 kN/mm at Dt = inf."""
+    sw = sweep("dls", "Dt", [1.0, 5.0, 50.0, math.inf], methods="analytic", workers=1)
+    k = [sw.value(i, "analytic", "stiffness") for i in range(4)]
+    assert all(a < b for a, b in zip(k, k[1:]))
+    assert k[0] == pytest.approx(400, rel=0.15)
+    assert k[-1] == pytest.approx(3600, rel=0.02)
+    from cases.plots import plot_sweep
+
+    assert plot_sweep(sw, tmp_path / "s.png", x_transform="inverse").stat().st_size > 1000
+
+
+def test_sweep_process_pool_matches_serial():
+    a = sweep("dcb", "Dn", [0.1, 1.0], methods="analytic", workers=1)
+    b = sweep("dcb", "Dn", [0.1, 1.0], methods="analytic", workers=2)
+    assert [p["analytic"]["quantities"] for p in a.points] == [p["analytic"]["quantities"] for p in b.points]
+
+
+def test_sweep_on_dask_local_cluster_matches_process_pool():
+    distributed = pytest.importorskip("dask.distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False) as cluster:
+        a = sweep("dcb", "Dn", [0.1, 1.0], methods="analytic", dask_address=cluster.scheduler_address)
+    b = sweep("dcb", "Dn", [0.1, 1.0], methods="analytic", workers=2)
+    assert [p["analytic"]["quantities"] for p in a.points] == [p["analytic"]["quantities"] for p in b.points]
