@@ -32,13 +32,15 @@ def _support(x, y, origin, cell, nn, lp, kind, wx, dwx, wy, dwy):
 
 
 @njit(cache=True, fastmath=True)
-def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, load_scale,
+def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
            origin, cell, nn, lp, kind, multi, internal,
            mass, mom, force, volume, volgrad, disp, pos):
     """Particle-to-grid extrapolation (000 Eq 5-6, 10, 13; 004 Eq 5, 29).
 
     Zeroes and fills mass, momentum and force (internal -V sigma.grad S if
-    ``internal``, plus S x ramped particle external force); with ``multi`` also
+    ``internal``, plus the ramped particle traction force, extrapolated with the
+    linear grid shape functions at the particle's loaded edge x_p + foff_p, i.e.
+    integrated over the particle-domain edge as for GIMP tractions); with ``multi`` also
     volume, volume gradient, mass-weighted displacement and position (divided by the
     field mass at the end). Returns -1, or the index of a particle whose support
     left the grid.
@@ -85,8 +87,8 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, load_scale,
                 mass[n, f] += s * m
                 mom[n, f, 0] += s * mvx
                 mom[n, f, 1] += s * mvy
-                force[n, f, 0] += s * fx - V * (sxx * gx + sxy * gy)
-                force[n, f, 1] += s * fy - V * (sxy * gx + syy * gy)
+                force[n, f, 0] -= V * (sxx * gx + sxy * gy)
+                force[n, f, 1] -= V * (sxy * gx + syy * gy)
                 if multi:
                     volume[n, f] += s * V
                     volgrad[n, f, 0] += gx * V
@@ -95,6 +97,15 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, load_scale,
                     disp[n, f, 1] += s * m * (x[p, 1] - x0[p, 1])
                     pos[n, f, 0] += s * m * x[p, 0]
                     pos[n, f, 1] += s * m * x[p, 1]
+        if fx != 0.0 or fy != 0.0:
+            i0, j0, nax, nay = _support(x[p, 0] + foff[p, 0], x[p, 1] + foff[p, 1], origin, cell,
+                                        nn, lp, 0, wx, dwx, wy, dwy)
+            for b in range(nay):
+                for a in range(nax):
+                    n = (j0 + b) * nx + i0 + a
+                    s = wx[a] * wy[b]
+                    force[n, f, 0] += s * fx
+                    force[n, f, 1] += s * fy
     if multi:
         for n in range(mass.shape[0]):
             for f in range(mass.shape[1]):
@@ -217,8 +228,22 @@ def _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol):
     pvol[p] *= 1.0 + e0 + e1
 
 
+@njit(cache=True, inline="always", fastmath=True)
+def _edge_velocity(x, y, f, origin, cell, nn, lp, nvel, wx, dwx, wy, dwy):
+    """Velocity of field f at point (x, y) from the linear grid shape functions."""
+    i0, j0, nax, nay = _support(x, y, origin, cell, nn, lp, 0, wx, dwx, wy, dwy)
+    ex = 0.0
+    ey = 0.0
+    for b in range(nay):
+        for a in range(nax):
+            n = (j0 + b) * nn[0] + i0 + a
+            ex += wx[a] * wy[b] * nvel[n, f, 0]
+            ey += wx[a] * wy[b] * nvel[n, f, 1]
+    return ex, ey
+
+
 @njit(cache=True, fastmath=True)
-def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, load_scale, C,
+def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
            origin, cell, nn, lp, kind, dt, pic, update_stress,
            nvel, nacc):
     """Grid-to-particle update (004 Eq 28, 32 with f^{C,1}) and USL stress update.
@@ -269,7 +294,11 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, load_scale, C,
                 L01 += vnx * gy
                 L10 += vny * gx
                 L11 += vny * gy
-        work += load_scale * (fext[p, 0] * vx + fext[p, 1] * vy) * dt
+        if fext[p, 0] != 0.0 or fext[p, 1] != 0.0:
+            # work of the traction: force x velocity of its point of application
+            ex, ey = _edge_velocity(x[p, 0] + foff[p, 0], x[p, 1] + foff[p, 1], f, origin,
+                                    cell, nn, lp, nvel, wx, dwx, wy, dwy)
+            work += load_scale * (fext[p, 0] * ex + fext[p, 1] * ey) * dt
         x[p, 0] += dt * vx
         x[p, 1] += dt * vy
         v[p, 0] = (1.0 - pic) * (v[p, 0] + dt * ax) + pic * vx
@@ -328,7 +357,7 @@ def ramp(t, ramp_time):
 
 @njit(cache=True)
 def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
-                 x, v, pmass, pvol, pvol0, stress, strain, field, x0, fext, C,
+                 x, v, pmass, pvol, pvol0, stress, strain, field, x0, fext, foff, C,
                  origin, cell, nn, lp, kind,
                  mass, mom, force, volume, volgrad, disp, pos, nvel, nacc,
                  bc_node, bc_field, bc_comp, bc_vel, bc_tend,
@@ -347,7 +376,7 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
     t = t0
     for s in range(nsteps):
         scale = ramp(t, ramp_time)
-        lost = p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, scale,
+        lost = p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, scale,
                       origin, cell, nn, lp, kind, False, not usf,
                       mass, mom, force, volume, volgrad, disp, pos)
         if lost >= 0:
@@ -361,7 +390,7 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
         diss, wbc = grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, vel)
         nodal_kinematics(mass, mom, force, nvel, nacc)
         ke, U, work, lost = g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext,
-                                   scale, C, origin, cell, nn, lp, kind, dt, pic, not usf,
+                                   foff, scale, C, origin, cell, nn, lp, kind, dt, pic, not usf,
                                    nvel, nacc)
         if lost >= 0:
             return s, lost

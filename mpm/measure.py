@@ -12,8 +12,10 @@ def stiffness_quantities(case, particles, loads: list[dict], stored_energy: floa
     """``stiffness`` k = P / (<u_load> - <u_support>) (002 Eq 43) and ``stiffness_energy``
     k = P^2 / (2U) (Eq 45, U = strain + interface energy) for ``case.measurements['stiffness']``.
 
-    <u> are averages over the particles in the first row along each listed side (the
-    particle analogue of the paper's average end displacements); P is the total
+    <u> are averages over the particles in the first row along each listed side,
+    extrapolated from the particle centre to the side itself with the particle strain
+    (u + eps . offset, exact for a linear field; ``stiffness_particle_rows`` uses the
+    particle-centre values as they are); P is the total
     applied traction force in ``direction`` on the load sides. Empty dict if the case
     asks for no stiffness; a warning if no traction acts on the load sides.
     """
@@ -29,13 +31,20 @@ def stiffness_quantities(case, particles, loads: list[dict], stored_energy: floa
     u = particles.x - particles.x0
 
     def mean_u(sides, key):
+        """(<u_d> of the side particles, <u_d> extrapolated to the side itself)."""
         if not sides:
             raise CaseError(f"measurements.stiffness.{key} must list [body, side] pairs")
-        idx = np.concatenate([side_particles(case, particles, b, s)[0] for b, s in sides])
-        return float(np.mean(u[idx, d])), idx.size
+        rows, edge = [], []
+        for b, s in sides:
+            idx = side_particles(case, particles, b, s)[0]
+            normal = np.asarray(case.body(b).shape.edge_normal(s), float)
+            off = normal * (0.5 * float(np.abs(normal) @ particles.spacing))
+            rows.append(u[idx, d])
+            edge.append(u[idx, d] + _strain_tensor(particles.strain[idx])[:, d, :] @ off)
+        return float(np.mean(np.concatenate(rows))), float(np.mean(np.concatenate(edge)))
 
-    u_load, n_load = mean_u(spec.get("load", []), "load")
-    u_sup, n_sup = mean_u(spec.get("support", []), "support")
+    u_load_p, u_load = mean_u(spec.get("load", []), "load")
+    u_sup_p, u_sup = mean_u(spec.get("support", []), "support")
     load_sides = {(b, s) for b, s in spec.get("load", [])}
     P = float(sum(ld["force"][d] for ld in loads if (ld["body"], ld["side"]) in load_sides))
     out = {"load_displacement": u_load, "support_displacement": u_sup, "load": P}
@@ -43,7 +52,9 @@ def stiffness_quantities(case, particles, loads: list[dict], stored_energy: floa
         result.warn("mpm: no traction acts on the stiffness load sides; stiffness not computed")
         return out
     delta = u_load - u_sup
+    delta_p = u_load_p - u_sup_p
     out["stiffness"] = P / delta if delta != 0.0 else float("inf")
+    out["stiffness_particle_rows"] = P / delta_p if delta_p != 0.0 else float("inf")
     out["stiffness_energy"] = P * P / (2.0 * stored_energy) if stored_energy > 0 else float("inf")
     return out
 
@@ -69,3 +80,12 @@ def interface_profile(grid, node_out: np.ndarray) -> dict | None:
             "jump_n": node_out[r, OUT_JUMP_N], "jump_t": node_out[r, OUT_JUMP_T],
             "traction_n": node_out[r, OUT_TRACTION_N], "traction_t": node_out[r, OUT_TRACTION_T],
             "area": node_out[r, OUT_AREA], "energy": node_out[r, OUT_ENERGY]}
+
+
+def _strain_tensor(voigt: np.ndarray) -> np.ndarray:
+    """(n, D, D) small-strain tensors from 2D Voigt rows [xx, yy, gamma_xy]."""
+    e = np.zeros((voigt.shape[0], 2, 2))
+    e[:, 0, 0] = voigt[:, 0]
+    e[:, 1, 1] = voigt[:, 1]
+    e[:, 0, 1] = e[:, 1, 0] = 0.5 * voigt[:, 2]
+    return e

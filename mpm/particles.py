@@ -29,7 +29,8 @@ class Particles:
     field: np.ndarray   # (P,) int64 body (= material field) index
     stress: np.ndarray  # (P, nv) Voigt stress [xx, yy, xy]
     strain: np.ndarray  # (P, nv) Voigt small strain, engineering shear
-    fext: np.ndarray    # (P, D) full (un-ramped) external force on the particle
+    fext: np.ndarray    # (P, D) full (un-ramped) traction force on the particle
+    foff: np.ndarray    # (P, D) offset from the particle centre to its loaded edge
     spacing: np.ndarray  # (D,) particle spacing = cell / ppc
     lp: np.ndarray      # (D,) particle half-width (uGIMP)
 
@@ -90,6 +91,7 @@ def generate(case, grid: Grid, ppc) -> Particles:
         x=x, x0=x.copy(), v=np.zeros((P, D)), mass=np.concatenate(masses),
         volume0=np.full(P, vol), volume=np.full(P, vol), field=np.concatenate(fields),
         stress=np.zeros((P, nv)), strain=np.zeros((P, nv)), fext=np.zeros((P, D)),
+        foff=np.zeros((P, D)),
         spacing=spacing, lp=0.5 * spacing)
 
 
@@ -127,7 +129,8 @@ def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
     """Set ``particles.fext`` from the case's traction boundary conditions.
 
     A loaded particle gets traction x its edge length (spacing along the side) x
-    thickness (2D) or x its face area (3D); the per-particle shares are normalised so
+    thickness (2D) or x its face area (3D), acting at the particle's edge on that side
+    (``foff``: half a particle spacing along the outward normal); the shares are normalised so
     that the total force is exactly traction x side length x thickness (rotated sides
     do not align with the particle lattice). Returns one record per traction
     condition: particle indices, total force vector and ramp time.
@@ -148,6 +151,8 @@ def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
         share *= length / share.sum()
         total = traction * length * thickness
         particles.fext[idx] += np.outer(share * thickness, traction)
+        # the force acts on the particle's edge on that side (half a spacing outward)
+        particles.foff[idx] = normal * (0.5 * float(np.abs(normal) @ particles.spacing))
         loads.append({"particles": idx, "force": total, "ramp_time": bc.ramp_time,
                       "body": bc.body, "side": bc.side})
     return loads

@@ -131,7 +131,7 @@ class _Runner:
             done, lost = K.run_chunk_2d(
                 nsteps, self.t, m.dt, m.ramp_time, m.alpha, kinetic, m.opts["pic"], usf,
                 pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
-                pt.x0, pt.fext, m.C, m.grid.origin, m.grid.cell, m.grid.nn, pt.lp, m.kind,
+                pt.x0, pt.fext, pt.foff, m.C, m.grid.origin, m.grid.cell, m.grid.nn, pt.lp, m.kind,
                 nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
                 nd.displacement, nd.position, nd.velocity, nd.acceleration,
                 bc.node, bc.field, bc.comp, bc.vel, bc.t_end,
@@ -160,7 +160,7 @@ class _Runner:
         for s in range(nsteps):
             scale = K.ramp(t, m.ramp_time)
             lost = K.p2g_2d(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
-                            scale, g.origin, g.cell, g.nn, pt.lp, m.kind, True, not usf,
+                            pt.foff, scale, g.origin, g.cell, g.nn, pt.lp, m.kind, True, not usf,
                             nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
                             nd.displacement, nd.position)
             if lost >= 0:
@@ -189,7 +189,7 @@ class _Runner:
                 mm.correct_momentum(1, *args)
             K.nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
             ke, U, work, lost = K.g2p_2d(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
-                                         pt.strain, pt.field, pt.fext, scale, m.C, g.origin,
+                                         pt.strain, pt.field, pt.fext, pt.foff, scale, m.C, g.origin,
                                          g.cell, g.nn, pt.lp, m.kind, m.dt, m.opts["pic"],
                                          not usf, nd.velocity, nd.acceleration)
             if lost >= 0:
