@@ -58,4 +58,4 @@ def points(name: str, value, low: float, high: float) -> np.ndarray:
     if arr.size and (arr.min() < low - tol or arr.max() > high + tol):
         raise CaseError(f"{name} must lie in [{low:g}, {high:g}], got values in "
                         f"[{arr.min():g}, {arr.max():g}]")
-    return np.clip(arr, low, high)
+    return np.asarray(np.clip(arr, low, high))

@@ -138,27 +138,31 @@ class CompositeSpheres:
             ratio = (3.0 * Km * s - 3.0) / (3.0 + 4.0 * Gm * s)
         B = eps0 / (1.0 + phi * ratio)
         c = B * ratio
-        # traction continuity 3 K_p A = 3 K_m B - 4 G_m c (finite also at the limits K_e = 0, inf)
-        A = (3.0 * Km * B - 4.0 * Gm * c) / (3.0 * self.K_p)
+        if s == 0.0:  # rigid-interphase limit: A from traction continuity 3 K_p A = 3 K_m B - 4 G_m c
+            A = (3.0 * Km * B - 4.0 * Gm * c) / (3.0 * self.K_p)
+        else:  # 3 K_p A = 3 K_e (B + c), free of cancellation for a soft interface
+            A = 0.0 if math.isinf(s) else (B + c) / (self.K_p * s)
         return A, B, c * a ** 3
 
     def radial_displacement(self, r, eps0: float = 1.0) -> np.ndarray:
         """u_r(r) (mm) for 0 <= r <= b; at r = a the particle-side value (the jump is at a+)."""
         r = points("r", r, 0.0, self.b)
         A, B, C = self.coefficients(eps0)
-        out = A * r
-        m = r > self.a
-        out[m] = B * r[m] + C / r[m] ** 2
-        return out
+        rr = np.atleast_1d(r)
+        out = A * rr
+        m = rr > self.a
+        out[m] = B * rr[m] + C / rr[m] ** 2
+        return out.reshape(r.shape)
 
     def radial_stress(self, r, eps0: float = 1.0) -> np.ndarray:
         """sigma_rr(r) (MPa) for 0 <= r <= b (continuous across r = a)."""
         r = points("r", r, 0.0, self.b)
         A, B, C = self.coefficients(eps0)
-        out = np.full_like(r, 3.0 * self.K_p * A)
-        m = r > self.a
-        out[m] = 3.0 * self.K_m * B - 4.0 * self.G_m * C / r[m] ** 3
-        return out
+        rr = np.atleast_1d(r)
+        out = np.full_like(rr, 3.0 * self.K_p * A)
+        m = rr > self.a
+        out[m] = 3.0 * self.K_m * B - 4.0 * self.G_m * C / rr[m] ** 3
+        return out.reshape(r.shape)
 
     def interface_jump(self, eps0: float = 1.0) -> float:
         """Radial displacement jump [u_r] = u_matrix(a) - u_particle(a) (mm)."""

@@ -109,6 +109,8 @@ class DoubleCantileverBeam:
             raise CaseError("Dn = 0 (debonded): the arms are not connected and have no "
                             "equilibrium deflection; use Dn > 0")
         x = points("x", x, -self.a, math.inf)
+        shape = x.shape
+        x = np.atleast_1d(x)
         P = positive("P", P)
         a, D, EI = self.a, self.Delta, self.E_xx * self.I
         v = np.empty_like(x)
@@ -121,7 +123,7 @@ class DoubleCantileverBeam:
         else:
             s = xb / D
             v[~free] = P * D * D / (2.0 * EI) * ((a + D) * np.cos(s) - a * np.sin(s)) * np.exp(-s)
-        return v
+        return v.reshape(shape)
 
 
 def dcb_compliance(a: float, h: float, W: float, E_xx: float, Dn: float = math.inf,
