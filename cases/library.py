@@ -92,8 +92,7 @@ def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: flo
            BoundaryCondition("traction", "outer_left", "ymax", ("x", "y"), traction, ramp_time=ramp),
            BoundaryCondition("traction", "outer_right", "ymax", ("x", "y"), traction, ramp_time=ramp)]
     P = 2 * load * t * W
-    y_line = [_rotate([[1.5 * t, 0.0]], angle)[0] + shift, _rotate([[1.5 * t, 2 * L + l]], angle)[0] + shift]
-    bond = [_rotate([[t, L]], angle)[0] + shift, _rotate([[t, L + l]], angle)[0] + shift]
+    y_line = [_rotate([[1.5 * t, 0.0]], angle)[0] + shift, _rotate([[1.5 * t, L + l]], angle)[0] + shift]
     return Case(
         name="dls", analysis="plane_stress", thickness=W,
         description=f"Double lap shear ({variant} specimen), Dt = {Dt} MPa/mm, Dn = {Dn} MPa/mm, P = {P:g} N",
@@ -110,8 +109,7 @@ def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: flo
         analytic={"model": "dls_shear_lag", "t1": t, "t2": t, "E1": 10000.0, "E2": 10000.0, "G1": 500.0,
                   "G2": 500.0, "l": l, "L": L, "W": W, "Dt": Dt},
         reference="analytic",
-        lines={"axis": [list(map(float, y_line[0])), list(map(float, y_line[1]))],
-               "bond_line": [list(map(float, bond[0])), list(map(float, bond[1]))]},
+        lines={"axis": [list(map(float, y_line[0])), list(map(float, y_line[1]))]},
     )
 
 
@@ -190,7 +188,7 @@ def dcb(Dn: float = math.inf, a: float = 25.0, length: float = 50.0, h: float = 
                                 "normal_vector": [0.0, 1.0]}},
         analytic={"model": "dcb_beam_foundation", "a": a, "h": h, "W": W, "E_xx": 10000.0, "Dn": Dn, "kb": kb},
         reference="analytic",
-        lines={"bond_line": [[0.0, h], [length, h]]},
+        lines={"upper_arm": [[0.0, 1.5 * h], [length, 1.5 * h]]},
     )
 
 

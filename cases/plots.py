@@ -26,19 +26,60 @@ def _style(method: str) -> dict:
     return STYLE.get(method, dict(color="tab:purple", ls="-", marker="x", lw=1.0))
 
 
-def plot_comparison(comparison, path) -> Path:
-    """One figure: a panel per quantity (value by method, reference as a line) and a
-    panel per profile component (all methods on the same axes)."""
-    quantities = comparison.quantity_names()
-    profile_panels = []
-    for r in comparison.results.values():
-        for pname, prof in r.profiles.items():
-            for key in prof:
-                if key in ("s", "x", "y", "z") or (pname, key) in profile_panels:
+HEADLINE = ("stiffness", "stiffness_energy", "strain_energy", "interface_energy", "bulk_modulus",
+            "transmitted_energy")
+PROFILE_KEYS = ("ux", "uy", "uz", "jump_n", "jump_t")
+
+
+def shared_quantities(comparison) -> list[str]:
+    """Quantities worth a panel: those of the reference that another method also gives;
+    without a reference, those given by two or more methods; else the headline ones."""
+    names = comparison.quantity_names()
+    methods = list(comparison.results)
+
+    def count(q):
+        return sum(math.isfinite(comparison.value(m, q)) for m in methods)
+
+    if comparison.reference is not None and len(methods) > 1:
+        out = [q for q in names if math.isfinite(comparison.value(comparison.reference, q)) and count(q) > 1]
+    else:
+        out = [q for q in names if count(q) > 1]
+    return out or [q for q in names if q in HEADLINE]
+
+
+def profile_panels(comparison) -> list[tuple[str, str]]:
+    """(profile, component) pairs to plot: the case's lines and the interface jump, for
+    displacement and jump components that are not identically zero."""
+    wanted = list(comparison.case.lines) + ["interface_jump"]
+    panels = []
+    for pname in wanted:
+        for key in PROFILE_KEYS:
+            peak, present = 0.0, False
+            scale = 0.0
+            for r in comparison.results.values():
+                prof = r.profiles.get(pname)
+                if prof is None or key not in prof or "s" not in prof:
                     continue
-                if np.ndim(prof[key]) == 1 and "s" in prof and len(prof[key]) == len(prof["s"]):
-                    profile_panels.append((pname, key))
-    n = len(quantities) + len(profile_panels)
+                v = np.asarray(prof[key], dtype=float)
+                if v.shape != np.shape(prof["s"]):
+                    continue
+                present = True
+                peak = max(peak, float(np.nanmax(np.abs(v))) if v.size else 0.0)
+                for k2 in PROFILE_KEYS:
+                    if k2 in prof and np.shape(prof[k2]) == np.shape(prof["s"]):
+                        scale = max(scale, float(np.nanmax(np.abs(np.asarray(prof[k2], dtype=float)))))
+            if present and peak > 1e-6 * scale and peak > 0:
+                panels.append((pname, key))
+    return panels
+
+
+def plot_comparison(comparison, path) -> Path:
+    """One figure: a panel per shared quantity (value by method, reference as a dashed
+    line, relative difference printed) and a panel per profile component along the
+    case's lines and the interface (all methods on the same axes)."""
+    quantities = shared_quantities(comparison)
+    profile_panels_ = profile_panels(comparison)
+    n = len(quantities) + len(profile_panels_)
     ncol = min(3, max(n, 1))
     nrow = max(1, math.ceil(n / ncol))
     fig, axes = plt.subplots(nrow, ncol, figsize=(4.6 * ncol, 3.6 * nrow), squeeze=False)
@@ -62,7 +103,7 @@ def plot_comparison(comparison, path) -> Path:
         finite = [v for v in vals if math.isfinite(v)]
         if finite:
             ax.set_ylim(0, 1.25 * max(finite) if max(finite) > 0 else None)
-    for ax, (pname, key) in zip(axes[len(quantities):], profile_panels):
+    for ax, (pname, key) in zip(axes[len(quantities):], profile_panels_):
         for m, r in comparison.results.items():
             prof = r.profiles.get(pname)
             if prof is None or key not in prof:
