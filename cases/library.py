@@ -145,8 +145,7 @@ def two_layer(Dt: float = 5.0, Dn: float = math.inf, width: float = 4.0, height:
                         "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
                                 "normal_vector": [1.0, 0.0]}},
         reference="fem",
-        lines={"interface": [[shift_x + width, 0.0], [shift_x + width, height]],
-               "across": [[shift_x, 0.75 * height], [shift_x + 2 * width, 0.75 * height]]},
+        lines={"across": [[shift_x, 0.75 * height], [shift_x + 2 * width, 0.75 * height]]},
     )
 
 
