@@ -18,7 +18,7 @@ from mpm.multimaterial_constants import (
     OUT_JUMP_N, OUT_JUMP_T, OUT_NX, OUT_STATUS, OUT_TRACTION_N, OUT_TRACTION_T,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
-    S_SEPARATION, S_SN_X, SEP_DISPLACEMENT, SEP_LR, SEP_OFFSET, STATUS_CONTACT,
+    S_SEPARATION, S_SN_X, SEP_LR, SEP_OFFSET, STATUS_CONTACT,
     STATUS_INTERFACE, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_SCREENED,
 )
 from mpm.multimaterial_normals import (
@@ -131,13 +131,14 @@ def _node_normal(i, a, b_law, g_a, g_b, om_a, om_b, a_rigid, b_rigid, settings, 
         return normal_ag(g_a, g_b, out)
     if method == NORMAL_RMVG:
         return normal_rmvg(g_a, g_b, a_rigid, b_rigid, out)
-    # NORMAL_LR: precomputed per (node, material) by mpm.multimaterial_lr
+    # NORMAL_LR: precomputed per (node, material) by mpm.multimaterial_lr; where the
+    # regression had no two-class point cloud, fall back to MVG
     s = 0.0
     for k in range(out.shape[0]):
         out[k] = lr_normal[i, a, k]
         s += out[k] * out[k]
     if not (s > 0.0):
-        return False
+        return normal_mvg(g_a, g_b, out)
     s = 1.0 / math.sqrt(s)
     for k in range(out.shape[0]):
         out[k] *= s
@@ -171,7 +172,8 @@ def _jump(i, a, x_a, x_b, n, cell, settings, lr_sep, jump, t_hat) -> float:
         hc = h if hmethod != HPERP_NONE else cell[0]
         for k in range(d):
             jump[k] -= settings[S_CONTACT_OFFSET] * hc * n[k]
-    elif sep == SEP_LR:
+    elif sep == SEP_LR and not math.isnan(lr_sep[i, a]):
+        # normal part from the LR separation (004 Eq 24), tangential from displacements
         shift = lr_sep[i, a] - dn
         for k in range(d):
             jump[k] += shift * n[k]
@@ -250,7 +252,7 @@ def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force
     f_b = np.empty(d)
     g_b = np.empty(d)
     x_b = np.empty(d)
-    xfield = disp if int(settings[S_SEPARATION]) == SEP_DISPLACEMENT else pos
+    xfield = pos if int(settings[S_SEPARATION]) == SEP_OFFSET else disp
     m_b, om_b = _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
                           p_b, f_b, g_b, x_b)
     m_a = mass[i, a]
@@ -410,7 +412,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
     f_b = np.empty(d)
     g_b = np.empty(d)
     x_b = np.empty(d)
-    xfield = disp if int(settings[S_SEPARATION]) == SEP_DISPLACEMENT else pos
+    xfield = pos if int(settings[S_SEPARATION]) == SEP_OFFSET else disp
     m_b, om_b = _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
                           p_b, f_b, g_b, x_b)
     m_a = mass[i, a]

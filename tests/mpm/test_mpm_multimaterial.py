@@ -11,11 +11,13 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from numba import njit
 
 from interfaces.case import InterfacePair
 from interfaces.errors import CaseError
 from interfaces.laws import BilinearNormalInterface, CoulombFriction, LinearInterface, StickContact
 from mpm import multimaterial as mm
+from mpm.shape import SHAPE_CODES, shape_2d
 from mpm.multimaterial_constants import (
     NODE_OUT_COLUMNS, OUT_AREA, OUT_ENERGY, OUT_JUMP_N, OUT_JUMP_T, OUT_STATUS, OUT_TRACTION_N,
     OUT_TRACTION_T, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_SCREENED,
@@ -431,14 +433,43 @@ def test_h_perp_eq22_matches_ellipse_tangent_construction():
     assert mm.h_perp(n3, t3, np.array([1.0, 2.0, 3.0]), 1) == pytest.approx(3.0, rel=1e-12)
 
 
+@njit
+def _p2g_volume(x, field, V, origin, cell, nn, lp, kind, mass, grad):
+    idx = np.empty(9, dtype=np.int64)
+    S = np.empty(9)
+    G = np.empty((9, 2))
+    for p in range(x.shape[0]):
+        c = shape_2d(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G)
+        if c < 0:
+            return p
+        f = field[p]
+        for q in range(c):
+            mass[idx[q], f] += S[q] * V
+            grad[idx[q], f, 0] += G[q, 0] * V
+            grad[idx[q], f, 1] += G[q, 1] * V
+    return -1
+
+
+def extrapolate(x, field, n_fields, origin, cell, nn, spacing, shape="ugimp"):
+    """Field mass (unit density), volume (000 Eq 19) and volume gradient (Eq 33) on the
+    grid from particles, with the core's shape functions (mpm.shape.shape_2d)."""
+    N = int(np.prod(nn))
+    mass = np.zeros((N, n_fields))
+    grad = np.zeros((N, n_fields, 2))
+    lost = _p2g_volume(np.ascontiguousarray(x, dtype=float), np.asarray(field, dtype=np.int64),
+                       float(spacing[0] * spacing[1]), np.asarray(origin, float),
+                       np.asarray(cell, float), np.asarray(nn, np.int64),
+                       0.5 * np.asarray(spacing, float), SHAPE_CODES[shape], mass, grad)
+    assert lost < 0
+    return mass, mass.copy(), grad
+
+
 def extrapolated_interface(theta_deg, shape="ugimp", cell=0.5, ppc=2):
     """Two bodies meeting on a straight interface with normal at theta (000 Fig 9: the
     rotated specimen): a particle lattice aligned with the interface, rotated by theta,
-    clipped to a disc; volume and volume gradient extrapolated with the core's P2G
-    (mpm.kernels.p2g_2d).  Returns the exact normal (a -> b) and, on nodes seeing both
-    fields at least 2 cells inside the disc, volumes and volume gradients."""
-    from mpm.kernels import p2g_2d
-    from mpm.shape import SHAPE_CODES
+    clipped to a disc, extrapolated with the core's shape functions.  Returns the exact
+    normal (a -> b) and, on nodes seeing both fields at least 2 cells inside the disc,
+    volumes and volume gradients."""
     R = 5.0
     h = cell / ppc
     k = np.arange(-R / h, R / h) + 0.5
@@ -451,20 +482,9 @@ def extrapolated_interface(theta_deg, shape="ugimp", cell=0.5, ppc=2):
     x = np.ascontiguousarray(local[:, :1] * n + local[:, 1:] * t + R + 3 * cell)
     field = (local[:, 0] > 0).astype(np.int64)               # a = 0 on the -n side
     nx = int(math.ceil((2 * R + 6 * cell) / cell)) + 1
-    origin = np.zeros(2)
     nn = np.array([nx, nx], dtype=np.int64)
-    P = x.shape[0]
-    V = np.full(P, h * h)
-    lp = np.full(2, 0.5 * h)
-    N = int(nn.prod())
-    arrs = [np.zeros((N, 2)), np.zeros((N, 2, 2)), np.zeros((N, 2, 2)), np.zeros((N, 2)),
-            np.zeros((N, 2, 2)), np.zeros((N, 2, 2)), np.zeros((N, 2, 2))]
-    lost = p2g_2d(x, np.zeros((P, 2)), V.copy(), V, np.zeros((P, 3)), field, x.copy(),
-                  np.zeros((P, 2)), 0.0, origin, np.full(2, cell), nn, lp, SHAPE_CODES[shape],
-                  True, False, *arrs)
-    assert lost < 0
-    mass, _, _, vol, grad, _, _ = arrs
-    idx = np.arange(N)
+    mass, vol, grad = extrapolate(x, field, 2, np.zeros(2), np.full(2, cell), nn, (h, h), shape)
+    idx = np.arange(int(nn.prod()))
     node_x = np.column_stack([idx % nx, idx // nx]) * cell
     inner = np.hypot(*(node_x - (R + 3 * cell)).T) < R - 2 * cell
     both = (mass[:, 0] > 1e-9 * mass.sum(1)) & (mass[:, 1] > 1e-9 * mass.sum(1)) & inner

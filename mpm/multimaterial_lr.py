@@ -1,0 +1,340 @@
+"""Logistic-regression (LR) contact normal and separation (004 Sec 3.1, Eq 19-25, 53-57).
+
+For each multimaterial node a point cloud is built from the material points in the
+cells around the node (2^D cells; the 4^D block of the uGIMP support if one class is
+missing there).  For material a against the lump of all others, classes are
+c_p = -1 (a) and +1 (others); the separating plane x . phi = 0 with x = (X, 1)
+minimises sum w_p (f(x_p, phi) - c_p)^2 + sum lambda_j phi_j^2 with the logistic
+f = 2/(1 + exp(-x . phi)) - 1 (004 Eq 20), by the NLLS iteration of Eq 21 with the
+Jacobian of Eq 53-56, phi^(0) = 0 (first step = linear regression), w_p = 1,
+lambda = 1e-7 dx^2 (1, .., 1, 0) and the stopping rule 1 - n^(k+1) . n^(k) < 1e-5 or 15
+iterations (Appendix, Eq 57).  Coordinates are taken relative to the node and scaled
+by dx for conditioning (the penalty is scaled accordingly, so the minimiser is the
+same).  The unit normal a -> b is phi_(1..D)/|phi_(1..D)|; the separation is Eq 24,
+d_LR = min_{p in b}(X_p . n - R_p) - max_{p in a}(X_p . n + R_p), with R_p the distance
+from the particle centre to its inscribed (deformed) ellipse(oid) along n (Eq 25).
+
+Results go to ``normal[N, M, D]`` (normal from field k to the others at node i; zero
+where not computed, then the kernels fall back to MVG) and ``separation[N, M]`` (NaN
+where not computed, then the kernels fall back to the displacement separation).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+LR_MAX_ITER = 15
+LR_TOL = 1.0e-5
+LR_PENALTY = 1.0e-7
+
+
+@njit(cache=True)
+def _solve_small(A, b, x) -> bool:
+    """Gaussian elimination with partial pivoting for a (D+1) x (D+1) system."""
+    n = b.shape[0]
+    M = A.copy()
+    r = b.copy()
+    for c in range(n):
+        piv = c
+        for i in range(c + 1, n):
+            if abs(M[i, c]) > abs(M[piv, c]):
+                piv = i
+        if M[piv, c] == 0.0:
+            return False
+        if piv != c:
+            for j in range(n):
+                tmp = M[c, j]
+                M[c, j] = M[piv, j]
+                M[piv, j] = tmp
+            tmp = r[c]
+            r[c] = r[piv]
+            r[piv] = tmp
+        for i in range(c + 1, n):
+            f = M[i, c] / M[c, c]
+            for j in range(c, n):
+                M[i, j] -= f * M[c, j]
+            r[i] -= f * r[c]
+    for i in range(n - 1, -1, -1):
+        s = r[i]
+        for j in range(i + 1, n):
+            s -= M[i, j] * x[j]
+        x[i] = s / M[i, i]
+    return True
+
+
+@njit(cache=True)
+def logistic_plane(xs, cls, n_pts, penalty, normal) -> int:
+    """NLLS logistic regression (004 Eq 20-21, 53-56) on ``n_pts`` scaled points.
+
+    ``xs[p, :D]`` are coordinates (already relative and scaled), ``cls[p]`` = -1/+1.
+    Writes the unit normal (towards class +1) to ``normal``; returns the number of
+    iterations, or -1 if the system is singular."""
+    d = normal.shape[0]
+    q = d + 1
+    phi = np.zeros(q)
+    A = np.empty((q, q))
+    rhs = np.empty(q)
+    step = np.empty(q)
+    xp = np.empty(q)
+    n_old = np.zeros(d)
+    it = 0
+    for it in range(1, LR_MAX_ITER + 1):
+        for j in range(q):
+            rhs[j] = -(penalty if j < d else 0.0) * phi[j]
+            for k in range(q):
+                A[j, k] = 0.0
+            A[j, j] = penalty if j < d else 0.0
+        for p in range(n_pts):
+            for j in range(d):
+                xp[j] = xs[p, j]
+            xp[d] = 1.0
+            z = 0.0
+            for j in range(q):
+                z += xp[j] * phi[j]
+            if z < -500.0:
+                z = -500.0
+            e = math.exp(-z)
+            f = 2.0 / (1.0 + e) - 1.0
+            psi = 2.0 * e / ((1.0 + e) * (1.0 + e))            # Eq 53
+            for j in range(q):
+                rhs[j] += psi * (cls[p] - f) * xp[j]            # Eq 56
+                for k in range(q):
+                    A[j, k] += psi * psi * xp[j] * xp[k]        # Eq 54-55
+        if not _solve_small(A, rhs, step):
+            return -1
+        for j in range(q):
+            phi[j] += step[j]
+        s = 0.0
+        for j in range(d):
+            s += phi[j] * phi[j]
+        if not (s > 0.0):
+            return -1
+        s = 1.0 / math.sqrt(s)
+        c = 0.0
+        for j in range(d):
+            normal[j] = phi[j] * s
+            c += normal[j] * n_old[j]
+        if it > 1 and 1.0 - c < LR_TOL:                          # Eq 57
+            break
+        for j in range(d):
+            n_old[j] = normal[j]
+    return it
+
+
+@njit(cache=True)
+def _particle_radius(n, r0, F, p, has_F) -> float:
+    """R_p of 004 Eq 25: distance along n to the particle's inscribed deformed ellipse."""
+    d = n.shape[0]
+    n0 = np.empty(d)
+    if has_F:
+        Fi = np.linalg.inv(F[p])
+        for j in range(d):
+            s = 0.0
+            for k in range(d):
+                s += Fi[j, k] * n[k]
+            n0[j] = s
+    else:
+        for j in range(d):
+            n0[j] = n[j]
+    s = 0.0
+    for j in range(d):
+        s += n0[j] * n0[j] / (r0[p, j] * r0[p, j])
+    return 1.0 / math.sqrt(s)
+
+
+@njit(cache=True)
+def _bin_particles(x, origin, cell, nn):
+    """Counting sort of particles by cell; returns (order, start[ncell + 1])."""
+    P, d = x.shape
+    ncell_axis = np.empty(d, dtype=np.int64)
+    ncell = 1
+    for k in range(d):
+        ncell_axis[k] = nn[k] - 1
+        ncell *= ncell_axis[k]
+    cid = np.empty(P, dtype=np.int64)
+    count = np.zeros(ncell + 1, dtype=np.int64)
+    for p in range(P):
+        c = 0
+        stride = 1
+        for k in range(d):
+            ck = int(math.floor((x[p, k] - origin[k]) / cell[k]))
+            ck = min(max(ck, 0), ncell_axis[k] - 1)
+            c += ck * stride
+            stride *= ncell_axis[k]
+        cid[p] = c
+        count[c + 1] += 1
+    for c in range(ncell):
+        count[c + 1] += count[c]
+    start = count.copy()
+    order = np.empty(P, dtype=np.int64)
+    fill = count[:ncell].copy()
+    for p in range(P):
+        order[fill[cid[p]]] = p
+        fill[cid[p]] += 1
+    return order, start
+
+
+@njit(cache=True)
+def _gather_cloud(i, ring, x, field, order, start, origin, cell, nn, idx_out) -> int:
+    """Particles in the (2 ring)^D cells around node i; returns their count."""
+    d = x.shape[1]
+    ijk = np.empty(d, dtype=np.int64)
+    rem = i
+    for k in range(d):
+        ijk[k] = rem % nn[k]
+        rem //= nn[k]
+    ncell_axis = nn - 1
+    side = 2 * ring
+    total = 1
+    for k in range(d):
+        total *= side
+    cnt = 0
+    for c in range(total):
+        rem = c
+        cidx = 0
+        stride = 1
+        ok = True
+        for k in range(d):
+            off = rem % side - ring
+            rem //= side
+            ck = ijk[k] + off
+            if ck < 0 or ck >= ncell_axis[k]:
+                ok = False
+                break
+            cidx += ck * stride
+            stride *= ncell_axis[k]
+        if not ok:
+            continue
+        for s in range(start[cidx], start[cidx + 1]):
+            if cnt < idx_out.shape[0]:
+                idx_out[cnt] = order[s]
+                cnt += 1
+    return cnt
+
+
+@njit(cache=True)
+def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal, separation) -> int:
+    """LR normal and separation for every node in ``nodes`` and every present field."""
+    n_nodes, m = mass.shape
+    d = x.shape[1]
+    normal[:, :, :] = 0.0
+    separation[:, :] = np.nan
+    order, start = _bin_particles(x, origin, cell, nn)
+    cap = 4096
+    idx = np.empty(cap, dtype=np.int64)
+    xs = np.empty((cap, d))
+    cls = np.empty(cap)
+    nvec = np.empty(d)
+    present = np.empty(m, dtype=np.int64)
+    solved = 0
+    for ii in range(nodes.shape[0]):
+        i = nodes[ii]
+        mtot = 0.0
+        for k in range(m):
+            mtot += mass[i, k]
+        npres = 0
+        for k in range(m):
+            if mass[i, k] > tol * mtot and mass[i, k] > 0.0:
+                present[npres] = k
+                npres += 1
+        if npres < 2:
+            continue
+        # node position
+        xi = np.empty(d)
+        rem = i
+        for k in range(d):
+            xi[k] = origin[k] + (rem % nn[k]) * cell[k]
+            rem //= nn[k]
+        n_solve = 1 if npres == 2 else npres
+        for jj in range(n_solve):
+            a = present[jj]
+            cnt = 0
+            for ring in (1, 2):
+                cnt = _gather_cloud(i, ring, x, field, order, start, origin, cell, nn, idx)
+                na = 0
+                nb = 0
+                for q in range(cnt):
+                    f = field[idx[q]]
+                    if f == a:
+                        na += 1
+                    elif mass[i, f] > tol * mtot:
+                        nb += 1
+                if na > 0 and nb > 0:
+                    break
+            if na == 0 or nb == 0:
+                continue
+            npts = 0
+            for q in range(cnt):
+                p = idx[q]
+                f = field[p]
+                if f != a and not (mass[i, f] > tol * mtot):
+                    continue          # material absent from this node: not part of the lump
+                for k in range(d):
+                    xs[npts, k] = (x[p, k] - xi[k]) / cell[0]
+                cls[npts] = -1.0 if f == a else 1.0
+                idx[npts] = p
+                npts += 1
+            if logistic_plane(xs, cls, npts, LR_PENALTY, nvec) < 0:
+                continue
+            amax = -1.0e300
+            bmin = 1.0e300
+            for q in range(npts):
+                p = idx[q]
+                proj = 0.0
+                for k in range(d):
+                    proj += x[p, k] * nvec[k]
+                rp = _particle_radius(nvec, r0, F, p, has_F)
+                if cls[q] < 0.0:
+                    amax = max(amax, proj + rp)
+                else:
+                    bmin = min(bmin, proj - rp)
+            dlr = bmin - amax                                   # Eq 24
+            for k in range(d):
+                normal[i, a, k] = nvec[k]
+            separation[i, a] = dlr
+            if npres == 2:
+                b = present[1]
+                for k in range(d):
+                    normal[i, b, k] = -nvec[k]
+                separation[i, b] = dlr
+            solved += 1
+    return solved
+
+
+def lr_normals_separations(x: np.ndarray, field: np.ndarray, half_width: np.ndarray,
+                           origin: np.ndarray, cell: np.ndarray, nn: np.ndarray,
+                           mass: np.ndarray, nodes: np.ndarray | None = None,
+                           F: np.ndarray | None = None, mass_tolerance: float = 1.0e-10,
+                           out: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """LR contact normals and separations for one step (004 Eq 19-25, 53-57).
+
+    ``x[P, D]`` particle positions, ``field[P]`` body index, ``half_width`` the
+    undeformed particle radii R_0 ((D,) or (P, D); half the particle spacing),
+    ``F[P, D, D]`` optional deformation gradients for Eq 25, grid ``origin``/``cell``/
+    ``nn`` as in mpm/LAYOUT.md, ``mass[N, M]`` nodal field masses, ``nodes`` the
+    multimaterial nodes (default: all).  Returns ``(normal[N, M, D], separation[N, M])``
+    to pass as ``lr=`` to :func:`mpm.multimaterial.correct_momentum` and
+    :func:`mpm.multimaterial.add_interface_forces` (reuse ``out`` to avoid allocation).
+    """
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    P, d = x.shape
+    n_nodes, m = mass.shape
+    r0 = np.asarray(half_width, dtype=np.float64)
+    if r0.ndim == 1:
+        r0 = np.broadcast_to(r0, (P, d))
+    r0 = np.ascontiguousarray(r0)
+    if np.any(r0 <= 0.0):
+        raise ValueError("lr_normals_separations: half_width must be > 0")
+    has_F = F is not None
+    F_arr = np.ascontiguousarray(F, dtype=np.float64) if has_F else np.zeros((1, d, d))
+    if nodes is None:
+        nodes = np.arange(n_nodes, dtype=np.int64)
+    if out is None:
+        out = (np.zeros((n_nodes, m, d)), np.zeros((n_nodes, m)))
+    lr_kernel(x, np.ascontiguousarray(field, dtype=np.int64), r0, F_arr, has_F,
+              np.asarray(origin, dtype=np.float64), np.asarray(cell, dtype=np.float64),
+              np.asarray(nn, dtype=np.int64), mass, np.ascontiguousarray(nodes, dtype=np.int64),
+              float(mass_tolerance), out[0], out[1])
+    return out
