@@ -1,0 +1,80 @@
+"""Bulk elasticity and boundary loads with scikit-fem, interface blocks from
+:mod:`fem.interface_element`; all assembled as sparse matrices (coo -> csr).
+
+Voigt order as in ``interfaces.materials``: plane ``[xx, yy, xy]`` (engineering shear),
+axisymmetric ``[rr, zz, tt, rz]`` with x = r, y = z; axisymmetric integrals are per
+radian (weight r), planar ones carry the out-of-plane thickness.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import BilinearForm, CellBasis, FacetBasis, LinearForm
+
+from .interface_element import stiffness_batch
+
+
+def strain_voigt(grad, value, x, axisymmetric: bool):
+    """Engineering strain components from a displacement's gradient (and value, for the
+    hoop strain u_r / r of axisymmetric analyses)."""
+    e = [grad[0, 0], grad[1, 1]]
+    if axisymmetric:
+        e.append(value[0] / x[0])
+    e.append(grad[0, 1] + grad[1, 0])
+    return e
+
+
+def _elasticity_form(C: np.ndarray, thickness: float, axisymmetric: bool) -> BilinearForm:
+    nz = [(i, j, float(C[i, j])) for i in range(C.shape[0]) for j in range(C.shape[1]) if C[i, j] != 0.0]
+
+    @BilinearForm
+    def form(u, v, w):
+        eu = strain_voigt(u.grad, u.value, w.x, axisymmetric)
+        ev = strain_voigt(v.grad, v.value, w.x, axisymmetric)
+        out = 0.0
+        for i, j, c in nz:          # at most 16 constant moduli, each over all elements at once
+            out = out + c * eu[j] * ev[i]
+        return out * (w.x[0] if axisymmetric else thickness)
+
+    return form
+
+
+def bulk_stiffness(mesh, element, intorder: int, element_body: np.ndarray, moduli: list[np.ndarray],
+                   thickness: float, axisymmetric: bool, ndof: int) -> sp.csr_matrix:
+    """Sum over bodies of int B^T C B dV (one scikit-fem basis restricted to each body)."""
+    K = sp.csr_matrix((ndof, ndof))
+    for k, C in enumerate(moduli):
+        cells = np.flatnonzero(element_body == k)
+        if len(cells) == 0:
+            continue
+        basis = CellBasis(mesh, element, intorder=intorder, elements=cells)
+        K = K + _elasticity_form(C, thickness, axisymmetric).assemble(basis)
+    return K.tocsr()
+
+
+def facet_load(mesh, element, facets: np.ndarray, traction: np.ndarray, thickness: float,
+               axisymmetric: bool, intorder: int) -> np.ndarray:
+    """Consistent nodal loads of a uniform traction (MPa, global axes) on ``facets``."""
+    tx, ty = float(traction[0]), float(traction[1])
+    fb = FacetBasis(mesh, element, facets=np.asarray(facets), intorder=intorder)
+
+    @LinearForm
+    def load(v, w):
+        return (tx * v.value[0] + ty * v.value[1]) * (w.x[0] if axisymmetric else thickness)
+
+    return load.assemble(fb)
+
+
+def interface_stiffness(xy: np.ndarray, dofs: np.ndarray, Dn: np.ndarray, Dt: np.ndarray,
+                        thickness: float, axisymmetric: bool, ndof: int) -> sp.csr_matrix:
+    """Global sparse matrix of interface elements (002 Eq 15-19) with element DOFs ``dofs``."""
+    if len(xy) == 0:
+        return sp.csr_matrix((ndof, ndof))
+    Ke = stiffness_batch(xy, Dn, Dt, thickness=thickness, axisymmetric=axisymmetric)
+    nd = dofs.shape[1]
+    rows = np.repeat(dofs, nd, axis=1).ravel()
+    cols = np.tile(dofs, (1, nd)).ravel()
+    return sp.coo_matrix((Ke.ravel(), (rows, cols)), shape=(ndof, ndof)).tocsr()
+
+
+__all__ = ["bulk_stiffness", "facet_load", "interface_stiffness", "strain_voigt"]

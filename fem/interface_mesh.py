@@ -1,0 +1,173 @@
+"""Interface elements along the shared edges of two bodies (002 Fig 3).
+
+For every ``InterfacePair(a, b)`` the boundary facets of body a and body b that coincide
+become 2n-node interface elements (n = 2 for linear, 3 for quadratic bulk elements).
+Side 1 of 002 is body b, traversed with b on its right, so the element normal
+n1 = (y', -x')/|x'| points from a into b and the jump [u] = u_b - u_a (the case API's
+convention): ``jump_n > 0`` opens the interface. Side-2 nodes (body a) follow 002 Eq 8:
+node 2n+1-i of the element sits at the position of node i.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from interfaces.errors import CaseError
+from interfaces.laws import LinearInterface
+
+from .interface_element import frame
+
+
+@dataclass
+class InterfaceElements:
+    """Interface elements of one pair: side-1 coordinates ``xy`` (m, n, 2), element DOFs
+    ``dofs`` (m, 4n) in 002 Eq 9 order, per-element ``Dn``/``Dt`` (inf = perfect) and the
+    x-DOFs of the coincident node pairs ``node_b``/``node_a`` (m, n) (y-DOF = x-DOF + 1)."""
+
+    pair: int
+    a: str
+    b: str
+    xy: np.ndarray
+    dofs: np.ndarray
+    Dn: np.ndarray
+    Dt: np.ndarray
+    node_b: np.ndarray
+    node_a: np.ndarray
+
+    @property
+    def finite_Dn(self) -> np.ndarray:
+        """Dn with perfect directions set to 0: their jump is constrained to zero exactly."""
+        return np.where(np.isinf(self.Dn), 0.0, self.Dn)
+
+    @property
+    def finite_Dt(self) -> np.ndarray:
+        return np.where(np.isinf(self.Dt), 0.0, self.Dt)
+
+
+def _boundary_facet_data(mesh, element_body):
+    bf = mesh.boundary_facets()
+    fb = element_body[mesh.f2t[0, bf]]
+    mid = mesh.p[:, mesh.facets[:, bf]].mean(axis=1).T
+    return bf, fb, mid
+
+
+def _laws(pair, index: int, midpoints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per-element (Dn, Dt) from the pair's default law and its zones (002 Fig 6)."""
+    laws = [pair.law] + [z[1] for z in pair.zones]
+    for k, law in enumerate(laws):
+        if not isinstance(law, LinearInterface):
+            where = "law" if k == 0 else f"zones[{k - 1}].law"
+            raise CaseError(f"interfaces[{index}].{where}: fem is linear and handles LinearInterface(Dn, Dt) "
+                            f"only, got {type(law).__name__} (002 Sec 3.1: use zones of linear laws, or mpm "
+                            f"for non-linear and contact laws)")
+    Dn = np.array([law.Dn for law in laws], dtype=float)
+    Dt = np.array([law.Dt for law in laws], dtype=float)
+    k = pair.zone_index(midpoints) + 1
+    return Dn[k], Dt[k]
+
+
+def find_interface_elements(case, mesh, basis, element_body: np.ndarray, order: int,
+                            tol: float) -> list[InterfaceElements]:
+    """Match coincident boundary facets of every interface pair and build its elements."""
+    names = [b.name for b in case.bodies]
+    bf, fbody, mid = _boundary_facet_data(mesh, element_body)
+    p = mesh.p
+    out = []
+    for index, pair in enumerate(case.interfaces):
+        ia, ib = names.index(pair.a), names.index(pair.b)
+        fa, fbb = bf[fbody == ia], bf[fbody == ib]
+        if len(fa) == 0 or len(fbb) == 0:
+            raise CaseError(f"interfaces[{index}]: bodies {pair.a!r} and {pair.b!r} share no edge")
+        dist, j = cKDTree(mid[fbody == ia]).query(mid[fbody == ib], distance_upper_bound=tol)
+        hit = np.isfinite(dist)
+        if not np.any(hit):
+            raise CaseError(f"interfaces[{index}]: bodies {pair.a!r} and {pair.b!r} share no edge "
+                            "(fem needs the two rectangles to touch along a side)")
+        f_b, f_a = fbb[hit], fa[j[hit]]
+        # side 1 = body b with b on the right of node 1 -> node n
+        v0, v1 = mesh.facets[0, f_b].copy(), mesh.facets[1, f_b].copy()
+        cent = p[:, mesh.t[:, mesh.f2t[0, f_b]]].mean(axis=1)
+        d = p[:, v1] - p[:, v0]
+        left = d[0] * (cent[1] - p[1, v0]) - d[1] * (cent[0] - p[0, v0]) > 0
+        v0[left], v1[left] = v1[left], v0[left].copy()
+        # body-a vertices at the positions of v0, v1
+        a0, a1 = mesh.facets[0, f_a].copy(), mesh.facets[1, f_a].copy()
+        swap = np.linalg.norm(p[:, a0] - p[:, v0], axis=0) > tol
+        a0[swap], a1[swap] = a1[swap], a0[swap].copy()
+        if np.any(np.linalg.norm(p[:, a0] - p[:, v0], axis=0) > tol) or \
+                np.any(np.linalg.norm(p[:, a1] - p[:, v1], axis=0) > tol):
+            raise CaseError(f"interfaces[{index}]: the meshes of {pair.a!r} and {pair.b!r} do not conform")
+        nd = basis.nodal_dofs
+        if order == 2:
+            fd = basis.facet_dofs
+            side1 = [nd[0, v0], fd[0, f_b], nd[0, v1]]
+            side2 = [nd[0, a1], fd[0, f_a], nd[0, a0]]
+            xy = np.stack([p[:, v0].T, 0.5 * (p[:, v0] + p[:, v1]).T, p[:, v1].T], axis=1)
+        else:
+            side1 = [nd[0, v0], nd[0, v1]]
+            side2 = [nd[0, a1], nd[0, a0]]
+            xy = np.stack([p[:, v0].T, p[:, v1].T], axis=1)
+        xdofs = np.stack(side1 + side2, axis=1)                       # (m, 2n) x-DOFs
+        dofs = np.stack([xdofs, xdofs + 1], axis=2).reshape(len(xdofs), -1)
+        Dn, Dt = _laws(pair, index, xy.mean(axis=1) if order == 1 else xy[:, 1])
+        node_b = xdofs[:, :order + 1]
+        node_a = xdofs[:, order + 1:][:, ::-1]                         # node 2n+1-i <-> node i
+        out.append(InterfaceElements(index, pair.a, pair.b, xy, dofs, Dn, Dt, node_b, node_a))
+    return out
+
+
+def perfect_constraints(elements: list[InterfaceElements], tol_angle: float = 1e-9):
+    """Exact constraints of the perfect directions (D = inf) at interface node pairs.
+
+    A node pair is constrained in a direction if any element containing it is perfect in
+    that direction (the D -> inf limit of that element forces the jump to zero at all of
+    its nodes). Returns ``ties`` (k, 2) DOF pairs (both directions perfect) and the
+    one-direction constraints ``(dofs_a, dofs_b, directions)``; a one-direction constraint
+    needs a unique direction at the node (straight interface), else CaseError.
+    """
+    ties, da, db, dirs = [], [], [], []
+    for el in elements:
+        m, n = el.node_b.shape
+        pn = np.repeat(np.isinf(el.Dn), n)
+        pt = np.repeat(np.isinf(el.Dt), n)
+        if not (pn.any() or pt.any()):
+            continue
+        xi = np.linspace(-1.0, 1.0, n)
+        _, n1, t1, _ = frame(el.xy, xi)
+        nb, na = el.node_b.ravel(), el.node_a.ravel()
+        n1, t1 = n1.reshape(-1, 2), t1.reshape(-1, 2)
+        key, inv = np.unique(nb, return_inverse=True)
+        any_n = np.zeros(len(key), bool)
+        any_t = np.zeros(len(key), bool)
+        np.logical_or.at(any_n, inv, pn)
+        np.logical_or.at(any_t, inv, pt)
+        node_a = np.empty(len(key), dtype=np.int64)
+        node_a[inv] = na
+        both = any_n & any_t
+        for comp in (0, 1):
+            ties.append(np.stack([key[both] + comp, node_a[both] + comp], axis=1))
+        for flag, vec, other in ((any_n & ~any_t, n1, "normal"), (any_t & ~any_n, t1, "tangential")):
+            if not flag.any():
+                continue
+            sel = flag[inv]
+            v = vec[sel]
+            k_sel = inv[sel]
+            # all elements meeting at a node must agree on the direction (straight interface)
+            ref = np.zeros((len(key), 2))
+            ref[k_sel] = v
+            if np.any(np.abs(v[:, 0] * ref[k_sel, 1] - v[:, 1] * ref[k_sel, 0]) > math.sqrt(tol_angle)):
+                raise CaseError(f"interfaces[{el.pair}]: a {other}-only perfect interface must be straight "
+                                f"at every node; {el.a!r}-{el.b!r} has a kink or curvature (use finite D there)")
+            idx = np.flatnonzero(flag)
+            da.append(np.stack([node_a[idx], node_a[idx] + 1], axis=1))
+            db.append(np.stack([key[idx], key[idx] + 1], axis=1))
+            dirs.append(ref[idx])
+    cat = lambda lst, shape: np.concatenate(lst) if lst else np.zeros(shape)  # noqa: E731
+    return (cat(ties, (0, 2)).astype(np.int64), cat(da, (0, 2)).astype(np.int64),
+            cat(db, (0, 2)).astype(np.int64), cat(dirs, (0, 2)))
+
+
+__all__ = ["InterfaceElements", "find_interface_elements", "perfect_constraints"]
