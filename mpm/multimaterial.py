@@ -28,6 +28,10 @@ Call order in one time step (004 Sec 3.2, "two contact corrections per step"):
    f_C,1 of 004 Eq 33-34;
 4. G2P with the corrected momenta and forces.
 
+With ``normal="LR"`` or ``separation="LR"`` (004 Sec 3.1) the caller computes, once
+per step after P2G, ``lr = lr_normals_separations(x, field, half_width, origin, cell,
+nn, mass, nodes)`` and passes ``lr=lr`` to both functions.
+
 Pairs of bodies without an entry in ``case.interfaces`` get ``options["default_law"]``
 (default ``"perfect"``: bodies that touch without a declared interface are bonded,
 the same continuum the FEM solver builds when it merges nodes; 004 Eq 34 shows a
@@ -49,13 +53,14 @@ from mpm.multimaterial_constants import (
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
     S_SEPARATION, S_SN_X, SEP_LR, SEPARATION_CODES,
 )
+from mpm.multimaterial_lr import lr_normals_separations  # noqa: F401  (re-exported)
 from mpm.multimaterial_normals import (  # noqa: F401  (re-exported public normals)
     h_perp, normal_ag, normal_avg, normal_mvg, normal_rmvg, normal_sn,
 )
 
 __all__ = [
     "MultimaterialTables", "build_pair_tables", "correct_momentum", "add_interface_forces",
-    "empty_lr_arrays", "DEFAULT_OPTIONS", "NODE_OUT_COLUMNS",
+    "empty_lr_arrays", "lr_normals_separations", "DEFAULT_OPTIONS", "NODE_OUT_COLUMNS",
     "normal_sn", "normal_mvg", "normal_avg", "normal_ag", "normal_rmvg", "h_perp",
 ]
 

@@ -1,0 +1,171 @@
+"""Logistic-regression normals and separation (004 Sec 3.1, Eq 19-25, Appendix 53-57)."""
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from numba import njit
+
+from interfaces.laws import CoulombFriction
+from mpm import multimaterial as mm
+from mpm.multimaterial_lr import logistic_plane, lr_normals_separations
+from mpm.shape import SHAPE_CODES, shape_2d
+
+
+@njit
+def _p2g_volume(x, field, V, origin, cell, nn, lp, kind, mass, grad):
+    idx = np.empty(9, dtype=np.int64)
+    S = np.empty(9)
+    G = np.empty((9, 2))
+    for p in range(x.shape[0]):
+        c = shape_2d(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G)
+        if c < 0:
+            return p
+        f = field[p]
+        for q in range(c):
+            mass[idx[q], f] += S[q] * V
+            grad[idx[q], f, 0] += G[q, 0] * V
+            grad[idx[q], f, 1] += G[q, 1] * V
+    return -1
+
+
+def extrapolate(x, field, n_fields, origin, cell, nn, spacing):
+    """Unit-density field mass (= volume) and volume gradient with uGIMP (mpm.shape)."""
+    N = int(np.prod(nn))
+    mass = np.zeros((N, n_fields))
+    grad = np.zeros((N, n_fields, 2))
+    lost = _p2g_volume(np.ascontiguousarray(x, dtype=float), np.asarray(field, dtype=np.int64),
+                       float(spacing * spacing), np.asarray(origin, float), np.asarray(cell, float),
+                       np.asarray(nn, np.int64), np.full(2, 0.5 * spacing), SHAPE_CODES["ugimp"],
+                       mass, grad)
+    assert lost < 0
+    return mass, grad
+
+
+def block(x0, y0, x1, y1, h):
+    xs = np.arange(x0 + h / 2, x1 - 1e-9, h)
+    ys = np.arange(y0 + h / 2, y1 - 1e-9, h)
+    X, Y = np.meshgrid(xs, ys, indexing="ij")
+    return np.column_stack([X.ravel(), Y.ravel()])
+
+
+GRID = dict(origin=np.array([-5.0, -5.0]), cell=np.array([1.0, 1.0]), nn=np.array([11, 11]))
+H = 0.5     # particle spacing: 2 x 2 particles per cell
+
+
+def two_blocks(a_box, b_box, shift_b=(0.0, 0.0)):
+    a = block(*a_box, H)
+    b = block(*b_box, H) + np.asarray(shift_b)
+    x = np.vstack([a, b])
+    field = np.r_[np.zeros(len(a), np.int64), np.ones(len(b), np.int64)]
+    mass, grad = extrapolate(x, field, 2, GRID["origin"], GRID["cell"], GRID["nn"], H)
+    return x, field, mass, grad
+
+
+def test_first_iteration_is_linear_regression_and_converges_on_separable_cloud():
+    """Appendix: phi(0) = 0 makes step 1 the linear least-squares plane; the logistic
+    iterations then converge (Eq 57 rule) to the symmetric separating line."""
+    pts = np.array([[x, y] for x in (-0.75, -0.25, 0.25, 0.75) for y in (-0.75, -0.25, 0.25, 0.75)])
+    cls = np.where(pts[:, 1] > 0, 1.0, -1.0)
+    n = np.empty(2)
+    it = logistic_plane(pts, cls, len(pts), 1e-7, n)
+    assert 1 <= it <= 15
+    np.testing.assert_allclose(n, [0.0, 1.0], atol=1e-12)
+
+
+def test_lr_fixes_the_corner_node_of_fig3c():
+    """004 Fig 3C: at a node on the corner of material a over a full edge of b, the AG
+    normal (Eq 13) tilts by ~18 deg; LR stays (nearly) on the horizontal plane."""
+    x, field, mass, grad = two_blocks((-3, 0, 0, 3), (-3, -3, 3, 0))
+    node = 5 + 11 * 5                                     # node at (0, 0)
+    out = np.empty(2)
+    mm.normal_ag(grad[node, 0], grad[node, 1], out)
+    tilt_ag = math.degrees(math.atan2(out[0], -out[1]))
+    assert tilt_ag == pytest.approx(math.degrees(math.atan(1.0 / 3.0)), abs=1e-9)   # 18.43 deg
+    nrm, sep = lr_normals_separations(x, field, np.array([H / 2, H / 2]), GRID["origin"],
+                                      GRID["cell"], GRID["nn"], mass)
+    tilt_lr = math.degrees(math.atan2(nrm[node, 0, 0], -nrm[node, 0, 1]))
+    assert abs(tilt_lr) < 1.5
+    np.testing.assert_allclose(nrm[node, 1], -nrm[node, 0])
+
+
+@pytest.mark.parametrize("gap", [0.0, 0.1, -0.1, 0.3])
+def test_lr_separation_is_the_gap_between_particle_edges(gap):
+    """Eq 22-24 with R_p = half the particle spacing: d_LR equals the physical gap."""
+    x, field, mass, _ = two_blocks((-4, 0, 4, 3), (-4, -3, 4, 0), shift_b=(0.0, -gap))
+    nrm, sep = lr_normals_separations(x, field, np.array([H / 2, H / 2]), GRID["origin"],
+                                      GRID["cell"], GRID["nn"], mass)
+    multi = np.flatnonzero((mass > 0).sum(axis=1) >= 2)
+    xs = GRID["origin"][0] + (multi % 11) * GRID["cell"][0]
+    inner = multi[np.abs(xs) <= 2.0]
+    assert len(inner) >= 5
+    np.testing.assert_allclose(sep[inner, 0], gap, atol=1e-12)
+    np.testing.assert_allclose(nrm[inner, 0], np.tile([0.0, -1.0], (len(inner), 1)), atol=1e-12)
+
+
+def test_lr_radius_follows_the_deformation_gradient():
+    """Eq 25: particles compressed along y (F = diag(1, 0.8)) have R_p = 0.8 h/2 along
+    n = -y, so touching centres now show a gap of 2 x 0.2 h/2."""
+    x, field, mass, _ = two_blocks((-4, 0, 4, 3), (-4, -3, 4, 0))
+    F = np.tile(np.diag([1.0, 0.8]), (len(x), 1, 1))
+    _, sep = lr_normals_separations(x, field, np.array([H / 2, H / 2]), GRID["origin"],
+                                    GRID["cell"], GRID["nn"], mass, F=F)
+    node = 5 + 11 * 5
+    assert sep[node, 0] == pytest.approx(2 * 0.2 * H / 2, abs=1e-12)
+
+
+@pytest.mark.parametrize("theta", [30.0, 63.0, 117.0])
+def test_lr_normal_on_a_rotated_interface(theta):
+    cell, R, h = 0.5, 5.0, 0.25
+    k = np.arange(-R / h, R / h) + 0.5
+    S, T = np.meshgrid(k * h, k * h, indexing="ij")
+    n = np.array([math.cos(math.radians(theta)), math.sin(math.radians(theta))])
+    t = np.array([-n[1], n[0]])
+    local = np.column_stack([S.ravel(), T.ravel()])
+    local = local[np.hypot(*local.T) < R]
+    x = np.ascontiguousarray(local[:, :1] * n + local[:, 1:] * t + R + 3 * cell)
+    field = (local[:, 0] > 0).astype(np.int64)
+    nx = int(math.ceil((2 * R + 6 * cell) / cell)) + 1
+    nn = np.array([nx, nx])
+    mass, _ = extrapolate(x, field, 2, np.zeros(2), np.full(2, cell), nn, h)
+    idx = np.arange(nx * nx)
+    node_x = np.column_stack([idx % nx, idx // nx]) * cell
+    inner = np.hypot(*(node_x - (R + 3 * cell)).T) < R - 2 * cell
+    frac = mass.min(axis=1) / np.maximum(mass.sum(axis=1), 1e-300)
+    both = inner & (frac > 1e-9)
+    nrm, sep = lr_normals_separations(x, field, np.array([h / 2, h / 2]), np.zeros(2),
+                                      np.full(2, cell), nn, mass)
+    err = np.degrees(np.arccos(np.clip(nrm[both, 0] @ n, -1.0, 1.0)))
+    good = frac[both] >= 0.02
+    assert good.sum() >= 10
+    assert err[good].max() < 2.0
+    assert np.abs(sep[both, 0][good]).max() < 0.03 * cell
+    assert err.max() < 15.0     # even nodes with a sliver of one field (MVG: > 90 deg there)
+
+
+def test_lr_contact_detection_in_correct_momentum():
+    """Approaching blocks: no correction while d_LR > 0, frictionless contact once the
+    particle edges overlap (004 Eq 14 + 24)."""
+    case = SimpleNamespace(bodies=[SimpleNamespace(name="a"), SimpleNamespace(name="b")],
+                           interfaces=[SimpleNamespace(a="a", b="b", law=CoulombFriction(0.0), zones=[])],
+                           dimension=2)
+    tables = mm.build_pair_tables(case, {"normal": "LR", "separation": "LR"})
+    for gap, expect in ((0.05, 0), (-0.05, 1)):
+        x, field, mass, grad = two_blocks((-4, 0, 4, 3), (-4, -3, 4, 0), shift_b=(0.0, -gap))
+        lr = lr_normals_separations(x, field, np.array([H / 2, H / 2]), GRID["origin"],
+                                    GRID["cell"], GRID["nn"], mass)
+        N = mass.shape[0]
+        mom = np.zeros((N, 2, 2))
+        mom[:, 0, 1] = -1.0 * mass[:, 0]      # a (top) moves down onto b
+        s = dict(force=np.zeros((N, 2, 2)), disp=np.zeros((N, 2, 2)), pos=np.zeros((N, 2, 2)))
+        multi = np.flatnonzero((mass > 0).sum(axis=1) >= 2)
+        changed = mm.correct_momentum(0, mass, mom, s["force"], mass.copy(), grad, s["disp"],
+                                      s["pos"], GRID["cell"], tables, 1e-3, 1.0, lr=lr, nodes=multi)
+        if expect:
+            assert changed >= 5
+            v = mom[multi] / mass[multi][:, :, None]
+            np.testing.assert_allclose(v[:, 0, 1], v[:, 1, 1], atol=1e-12)
+        else:
+            assert changed == 0
