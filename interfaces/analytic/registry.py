@@ -27,12 +27,14 @@ Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
 """
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any, Callable
 
 import numpy as np
 
-from interfaces.analytic._checks import CaseError, positive
+from interfaces.analytic._checks import CaseError, interface_stiffness, positive
+from interfaces.errors import check_number
 from interfaces.analytic.composite_spheres import (CompositeSpheres, bulk_shear_from_young_poisson,
                                                     sphere_in_cube_volume_fraction)
 from interfaces.analytic.dcb import DoubleCantileverBeam
@@ -42,6 +44,18 @@ from interfaces.analytic.waves import impedance, pulse_transmission, wave_reflec
 __all__ = ["MODELS", "PROFILES", "model_names"]
 
 _INF = math.inf
+
+
+def _named(fn: Callable) -> Callable:
+    """Prefix argument errors with ``analytic.`` so they name the case field."""
+    @functools.wraps(fn)
+    def wrapper(**params):
+        try:
+            return fn(**params)
+        except CaseError as e:
+            msg = str(e)
+            raise CaseError(msg if msg.startswith("analytic") else f"analytic.{msg}") from None
+    return wrapper
 
 
 def _take(params: dict[str, Any], model: str, allowed: dict[str, Any],
@@ -92,6 +106,7 @@ def _dls(params: dict[str, Any]) -> tuple[DoubleLapShear, dict[str, Any]]:
     return model, p
 
 
+@_named
 def dls_shear_lag(**params) -> dict[str, float]:
     """DLS specimen (002 Eq 40-42, Appendix A): stiffness with arms, bonded compliance, beta l."""
     m, _ = _dls(params)
@@ -102,6 +117,7 @@ def dls_shear_lag(**params) -> dict[str, float]:
             "long_bond_stiffness": 1.0 / m.compliance_long_bond}
 
 
+@_named
 def dls_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     """Stresses and interface slip along the bond for the load P (002 Eq A.2, A.7, A.8).
 
@@ -149,6 +165,7 @@ def _dcb(params: dict[str, Any]) -> tuple[DoubleCantileverBeam, dict[str, Any]]:
     return DoubleCantileverBeam(p["a"], p["h"], p["W"], p["E_xx"], p["Dn"], p["kb"]), p
 
 
+@_named
 def dcb_beam_foundation(**params) -> dict[str, float]:
     """DCB specimen (002 Eq 46-47): load-point stiffness and compliance, C0 and Delta."""
     m, _ = _dcb(params)
@@ -156,6 +173,7 @@ def dcb_beam_foundation(**params) -> dict[str, float]:
             "Delta": m.Delta}
 
 
+@_named
 def dcb_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     """Arm deflection v(x) (002 Eq B.3, B.6) and opening 2v for -a <= x <= x_max; and
     ``interface_jump`` along the bond (s = x >= 0 from the crack tip, placed at
@@ -203,6 +221,7 @@ def _wave(params: dict[str, Any]) -> tuple[float, float, float, float, dict[str,
     return p["f"], p["Dn"], Z1, Z2, p
 
 
+@_named
 def wave_transmission_model(**params) -> dict[str, float]:
     """Normal-incidence energy transmission through a spring interface (002 Eq 48, general Z1, Z2),
     harmonic and for the single half-sine pulse of Eq 49."""
@@ -215,6 +234,7 @@ def wave_transmission_model(**params) -> dict[str, float]:
             "Z1": Z1, "Z2": Z2}
 
 
+@_named
 def wave_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     """T against Dn around the half-transmission value pi f Z (harmonic and pulse)."""
     f, _, Z1, Z2, p = _wave(params)
@@ -239,6 +259,8 @@ def _moduli(p: dict[str, Any], phase: str) -> tuple[float, float | None]:
                             f"nu_{phase}, not both")
         if E is None or nu is None:
             raise CaseError(f"analytic.E_{phase} and analytic.nu_{phase} must be given together")
+        E = positive(f"E_{phase}", E)
+        nu = check_number(f"nu_{phase}", nu, low=-1.0, high=0.5, low_open=True, high_open=True)
         return bulk_shear_from_young_poisson(E, nu)
     if K is None:
         raise CaseError(f"composite_spheres needs analytic.K_{phase} (or E_{phase} and nu_{phase})")
@@ -247,6 +269,10 @@ def _moduli(p: dict[str, Any], phase: str) -> tuple[float, float | None]:
 
 def _csa(params: dict[str, Any]) -> tuple[CompositeSpheres, dict[str, Any]]:
     p = _take(params, "composite_spheres", _CSA)
+    if p["Dt"] is not None:  # accepted for cases with Dn = Dt; it does not enter the bulk response
+        interface_stiffness("Dt", p["Dt"], allow_negative=True)
+    if p["G_p"] is not None:
+        positive("G_p", p["G_p"])
     K_p, _ = _moduli(p, "p")
     K_m, G_m = _moduli(p, "m")
     if G_m is None:
@@ -264,10 +290,13 @@ def _csa(params: dict[str, Any]) -> tuple[CompositeSpheres, dict[str, Any]]:
             raise CaseError(f"analytic.b must be > a = {a:g} mm, got {b:g}")
         phi = (a / b) ** 3
     else:
-        phi = sphere_in_cube_volume_fraction(a, p["cube_side"], octant=bool(p["octant"]))
+        if not isinstance(p["octant"], (bool, np.bool_)):
+            raise CaseError(f"analytic.octant must be true or false, got {p['octant']!r}")
+        phi = sphere_in_cube_volume_fraction(a, positive("cube_side", p["cube_side"]), octant=bool(p["octant"]))
     return CompositeSpheres(K_p, K_m, G_m, phi, a, p["Dn"]), p
 
 
+@_named
 def composite_spheres(**params) -> dict[str, float]:
     """Bulk modulus of the composite spheres assemblage with a spring interface (000 Sec 3)."""
     m, _ = _csa(params)
@@ -278,6 +307,7 @@ def composite_spheres(**params) -> dict[str, float]:
             "phi": m.phi}
 
 
+@_named
 def composite_spheres_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     """Radial displacement and stress through particle and shell for u(b) = eps0 b."""
     m, p = _csa(params)
