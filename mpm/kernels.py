@@ -203,8 +203,14 @@ def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel)
 
 @njit(cache=True, fastmath=True)
 def nodal_kinematics(mass, mom, force, nvel, nacc):
-    """Nodal velocity v = p/m and acceleration a = f/m per field (0 where m = 0)."""
+    """Nodal velocity v = p/m and acceleration a = f/m per field (0 where m = 0).
+
+    Returns the grid kinetic energy sum |p|^2 / (2 m): unlike the particle kinetic
+    energy it does not see FLIP null-space particle velocities (004 Sec 3.3), so the
+    stopping criterion uses it.
+    """
     N, M, D = mom.shape
+    ke = 0.0
     for n in range(N):
         for f in range(M):
             m = mass[n, f]
@@ -212,6 +218,8 @@ def nodal_kinematics(mass, mom, force, nvel, nacc):
             for d in range(D):
                 nvel[n, f, d] = mom[n, f, d] * inv
                 nacc[n, f, d] = force[n, f, d] * inv
+                ke += 0.5 * mom[n, f, d] * mom[n, f, d] * inv
+    return ke
 
 
 @njit(cache=True, inline="always", fastmath=True)
@@ -365,8 +373,9 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
     """``nsteps`` complete time steps of a run without multimaterial nodes.
 
     The whole step sequence stays compiled; Python only runs between output
-    intervals. ``hist[s] = (t, kinetic, strain, work_ext, dissipated, work_bc)``
-    after step s (energies of that step for the work terms). ``bc_vel`` applies
+    intervals. ``hist[s] = (t, kinetic, strain, work_ext, dissipated, work_bc,
+    interface (0 here), grid kinetic)`` after step s (the work and dissipation
+    columns are the increments of that step). ``bc_vel`` applies
     until ``bc_tend`` (then 0: a ramped prescribed displacement). Kinetic damping
     zeroes the particle velocities whenever the kinetic energy has just peaked.
     Returns (number of steps done, index of a lost particle or -1, last kinetic
@@ -388,7 +397,7 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
         for b in range(bc_vel.size):
             vel[b] = bc_vel[b] if t < bc_tend[b] else 0.0
         diss, wbc = grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, vel)
-        nodal_kinematics(mass, mom, force, nvel, nacc)
+        ke_grid = nodal_kinematics(mass, mom, force, nvel, nacc)
         ke, U, work, lost = g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext,
                                    foff, scale, C, origin, cell, nn, lp, kind, dt, pic, not usf,
                                    nvel, nacc)
@@ -407,6 +416,7 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
         hist[s, 3] = work
         hist[s, 4] = diss
         hist[s, 5] = wbc
+        hist[s, 7] = ke_grid
         if not np.isfinite(ke):
             return s + 1, -1
     return nsteps, -1

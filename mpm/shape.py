@@ -44,15 +44,6 @@ def gimp_1d(r: float, h: float, lp: float):
 
 
 @njit(cache=True, inline="always", fastmath=True)
-def linear_1d(r: float, h: float):
-    """1D linear (tent) weight and derivative d/dx_p for r = x_p - x_i."""
-    a = abs(r)
-    if a < h:
-        return 1.0 - a / h, (-1.0 if r >= 0.0 else 1.0) / h
-    return 0.0, 0.0
-
-
-@njit(cache=True, inline="always", fastmath=True)
 def axis_weights(x: float, o: float, h: float, lp: float, kind: int,
                  w: np.ndarray, dw: np.ndarray):
     """Fill w[k], dw[k] for the nodes i0 + k, k < count, along one axis; return (i0, count).
@@ -64,8 +55,11 @@ def axis_weights(x: float, o: float, h: float, lp: float, kind: int,
     xi = (x - o) / h
     if kind == LINEAR:
         i0 = int(np.floor(xi))
-        for k in range(2):
-            w[k], dw[k] = linear_1d(x - (o + (i0 + k) * h), h)
+        r = xi - i0  # in [0, 1): the gradient is the one of the cell containing x
+        w[0] = 1.0 - r
+        w[1] = r
+        dw[0] = -1.0 / h
+        dw[1] = 1.0 / h
         return i0, 2
     i0 = int(np.floor(xi + 0.5)) - 1
     for k in range(3):

@@ -31,7 +31,8 @@ from .progress import ProgressBar
 from .shape import SHAPE_CODES
 from .vtk import write_vtk_series
 
-HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc", "interface")
+HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc", "interface",
+                "kinetic_grid")
 
 
 class Model:
@@ -187,7 +188,8 @@ class _Runner:
                                       bc.node, bc.field, bc.comp, vel)
             if multi:
                 mm.correct_momentum(1, *args)
-            K.nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
+            ke_grid = K.nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity,
+                                         nd.acceleration)
             ke, U, work, lost = K.g2p_2d(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
                                          pt.strain, pt.field, pt.fext, pt.foff, scale, m.C, g.origin,
                                          g.cell, g.nn, pt.lp, m.kind, m.dt, m.opts["pic"],
@@ -201,7 +203,7 @@ class _Runner:
                 ke = 0.0
             self.ke_prev[1] = self.ke_prev[0]
             self.ke_prev[0] = ke
-            hist[s] = (t, ke, U, work, diss, wbc, u_int)
+            hist[s] = (t, ke, U, work, diss, wbc, u_int, ke_grid)
             if not math.isfinite(ke):
                 return s + 1, -1
         return nsteps, -1
@@ -236,7 +238,8 @@ class _Runner:
                     f"{m.opts['blowup']:g} x the work done {cum_work:.3g}"))
             if vtk_every and (self.steps % vtk_every == 0 or self.steps >= total_steps):
                 self._frame()
-            bar.update(self.steps / total_steps, f"t={self.t:.3g}s KE/U={ke / max(U + ui, 1e-300):.2e}")
+            bar.update(self.steps / total_steps,
+                       f"t={self.t:.3g}s KE/U={h[-1, 7] / max(U + ui, 1e-300):.2e}")
             if self.t > m.ramp_time and self._settled(window):
                 self.stopped_by = "kinetic_energy"
                 break
@@ -259,7 +262,7 @@ class _Runner:
         if recent.shape[0] < window:
             return False
         stored = recent[-1, 2] + recent[-1, 6]
-        return stored > 0 and recent[:, 1].max() < self.m.opts["tol"] * stored
+        return stored > 0 and recent[:, 7].max() < self.m.opts["tol"] * stored
 
     def _diverged(self, what: str) -> str:
         return (f"mpm diverged at t = {self.t:.4g} s (step {self.steps}): {what}. Reduce the "
@@ -284,6 +287,7 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
     diss = float(hist[:, 4].sum())
     strain_e, ke, u_int = float(last[2]), float(last[1]), float(last[6])
     q = {"strain_energy": strain_e, "interface_energy": u_int, "kinetic_energy": ke,
+         "kinetic_energy_grid": float(last[7]),
          "external_work": work, "dissipated_energy": diss,
          "energy_balance_error": (work - strain_e - u_int - ke - diss) / max(abs(work), 1e-300)}
     res = Result(method="mpm", case_name=case.name)

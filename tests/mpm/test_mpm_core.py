@@ -1,0 +1,215 @@
+"""Unit tests of the MPM core: grid indexing, shape functions, particles, P2G, loads, errors."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from interfaces import (Body, BoundaryCondition, Case, CaseError, IsotropicElastic, Rectangle,
+                        Circle, SolverError)
+import mpm
+from mpm import kernels as K
+from mpm.grid import Grid, NodalFields
+from mpm.particles import apply_tractions, generate
+from mpm.shape import LINEAR, UGIMP, shape_2d
+
+ORIGIN = np.array([-1.0, -2.0])
+CELL = np.array([0.5, 0.8])
+NN = np.array([12, 9])
+
+
+def _block_case(width=4.0, height=2.0, holes=(), traction=(0.0, 1.0), thickness=3.0):
+    mat = IsotropicElastic(E=1000.0, nu=0.25, rho=2e-9)
+    return Case(name="block", analysis="plane_stress", thickness=thickness, materials={"m": mat},
+                bodies=[Body("b", Rectangle(0.0, 0.0, width, height), "m", holes=list(holes))],
+                boundary_conditions=[
+                    BoundaryCondition("fixed", "b", "ymin", ("x", "y"), (0.0, 0.0)),
+                    BoundaryCondition("traction", "b", "ymax", ("x", "y"), traction)])
+
+
+# ---------------------------------------------------------------- grid ----
+
+def test_grid_flat_index_and_positions():
+    g = Grid(ORIGIN, CELL, NN)
+    X = g.node_positions()
+    assert X.shape == (g.N, 2)
+    ij = np.array([[3, 5], [0, 0], [11, 8]])
+    n = g.node_index(ij)
+    np.testing.assert_array_equal(n, ij[:, 0] + NN[0] * ij[:, 1])
+    np.testing.assert_allclose(X[n], ORIGIN + ij * CELL)
+
+
+def test_grid_around_puts_body_edges_on_node_lines():
+    g = Grid.around([0.0, 0.0], [4.0, 2.0], [0.5, 0.25], padding=3)
+    X = g.node_positions()
+    for value, d in ((0.0, 0), (4.0, 0), (0.0, 1), (2.0, 1)):
+        assert np.any(np.isclose(X[:, d], value, atol=1e-12))
+
+
+# ------------------------------------------------------ shape functions ----
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(0.2, 4.3), st.floats(-0.9, 4.0), st.sampled_from([LINEAR, UGIMP]))
+def test_shape_partition_of_unity_and_linear_reproduction(x, y, kind):
+    lp = 0.5 * CELL / 2 if kind == UGIMP else np.zeros(2)
+    idx = np.zeros(9, np.int64)
+    S = np.zeros(9)
+    G = np.zeros((9, 2))
+    c = shape_2d(x, y, ORIGIN, CELL, NN, lp, kind, idx, S, G)
+    assert c > 0
+    X = Grid(ORIGIN, CELL, NN).node_positions()[idx[:c]]
+    assert S[:c].sum() == pytest.approx(1.0, abs=1e-13)
+    np.testing.assert_allclose(S[:c] @ X, [x, y], atol=1e-12)       # sum S x_i = x_p
+    np.testing.assert_allclose(G[:c].sum(axis=0), 0.0, atol=1e-12)   # sum grad S = 0
+    np.testing.assert_allclose(X.T @ G[:c], np.eye(2), atol=1e-12)  # sum x_i (x) grad S = I
+
+
+@pytest.mark.parametrize("kind", [LINEAR, UGIMP])
+def test_shape_gradient_matches_finite_differences(kind):
+    rng = np.random.default_rng(3)
+    lp = 0.5 * CELL / 2 if kind == UGIMP else np.zeros(2)
+    X = Grid(ORIGIN, CELL, NN).node_positions()
+    h = 1e-6
+    for _ in range(40):
+        x, y = rng.uniform(0.3, 3.5), rng.uniform(-0.5, 3.0)
+
+        def weights(px, py):
+            idx = np.zeros(9, np.int64)
+            S = np.zeros(9)
+            G = np.zeros((9, 2))
+            c = shape_2d(px, py, ORIGIN, CELL, NN, lp, kind, idx, S, G)
+            full = np.zeros(len(X))
+            full[idx[:c]] = S[:c]
+            grad = np.zeros((len(X), 2))
+            grad[idx[:c]] = G[:c]
+            return full, grad
+
+        S0, G0 = weights(x, y)
+        fdx = (weights(x + h, y)[0] - weights(x - h, y)[0]) / (2 * h)
+        fdy = (weights(x, y + h)[0] - weights(x, y - h)[0]) / (2 * h)
+        np.testing.assert_allclose(G0[:, 0], fdx, atol=1e-5)
+        np.testing.assert_allclose(G0[:, 1], fdy, atol=1e-5)
+
+
+def test_ugimp_weight_is_the_convolution_of_particle_and_node_functions():
+    """004 Eq 2: S = (1/V_p) int chi_p N_i dx; check the 1D function by quadrature."""
+    h, lp = 1.0, 0.25
+    from mpm.shape import gimp_1d
+    xs = np.linspace(-1.4, 1.4, 57)
+    q = np.linspace(-lp, lp, 20001)
+    for x in xs:
+        exact = np.trapezoid(np.clip(1 - np.abs(x + q) / h, 0, None), q) / (2 * lp)
+        assert gimp_1d(x, h, lp)[0] == pytest.approx(exact, abs=1e-7)
+
+
+# ------------------------------------------------------------ particles ----
+
+def test_particles_fill_bodies_with_holes_and_carry_mass():
+    case = _block_case(holes=[Circle(2.0, 1.0, 0.5)])
+    g = Grid.around(*case.bounds(), 0.25)
+    pt = generate(case, g, 2)
+    assert not np.any(np.hypot(pt.x[:, 0] - 2.0, pt.x[:, 1] - 1.0) < 0.5)
+    area = 4.0 * 2.0 - math.pi * 0.25
+    rho = case.materials["m"].rho
+    # particle lattice resolves the hole to one particle area per boundary cell
+    assert pt.mass.sum() == pytest.approx(rho * area * 3.0, rel=0.03)
+    np.testing.assert_allclose(pt.volume0, 0.125 ** 2 * 3.0)
+    assert pt.P == 128 * 4 - np.count_nonzero(
+        np.hypot(*(generate(_block_case(), g, 2).x - [2.0, 1.0]).T) < 0.5)
+
+
+def test_particles_per_cell_option_and_validation():
+    case = _block_case()
+    g = Grid.around(*case.bounds(), 0.5)
+    assert generate(case, g, 3).P == 8 * 4 * 9
+    assert generate(case, g, (1, 2)).P == 8 * 4 * 2
+    with pytest.raises(CaseError, match="ppc"):
+        generate(case, g, 0)
+
+
+def test_traction_total_force_and_edge_offset():
+    case = _block_case(traction=(0.5, -2.0), thickness=3.0)
+    g = Grid.around(*case.bounds(), 0.5)
+    pt = generate(case, g, 2)
+    loads = apply_tractions(case, pt, 2)
+    np.testing.assert_allclose(pt.fext.sum(axis=0), np.array([0.5, -2.0]) * 4.0 * 3.0)
+    np.testing.assert_allclose(loads[0]["force"], [6.0, -24.0])
+    loaded = np.any(pt.fext != 0, axis=1)
+    # the loaded particles are the top row; their force acts on their top edge (y = 2)
+    np.testing.assert_allclose(pt.x[loaded, 1] + pt.foff[loaded, 1], 2.0)
+
+
+# -------------------------------------------------------------- P2G -----
+
+def test_p2g_conserves_mass_momentum_and_applied_force():
+    case = _block_case()
+    g = Grid.around(*case.bounds(), 0.5)
+    pt = generate(case, g, 2)
+    apply_tractions(case, pt, 2)
+    rng = np.random.default_rng(0)
+    pt.v[:] = rng.normal(size=pt.v.shape)
+    pt.x += rng.uniform(-0.05, 0.05, pt.x.shape)
+    pt.stress[:] = rng.normal(size=pt.stress.shape)
+    nd = NodalFields(g.N, 1, 2)
+    lost = K.p2g_2d(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext, pt.foff,
+                    0.7, g.origin, g.cell, g.nn, pt.lp, UGIMP, False, True, nd.mass,
+                    nd.momentum, nd.force, nd.volume, nd.volume_gradient, nd.displacement,
+                    nd.position)
+    assert lost == -1
+    assert nd.mass.sum() == pytest.approx(pt.mass.sum(), rel=1e-13)
+    np.testing.assert_allclose(nd.momentum.sum(axis=(0, 1)), pt.mass @ pt.v, rtol=1e-12)
+    # internal forces are self-equilibrated (sum grad S = 0); the total is the applied load
+    np.testing.assert_allclose(nd.force.sum(axis=(0, 1)), 0.7 * pt.fext.sum(axis=0), atol=1e-10)
+
+
+def test_p2g_multimaterial_arrays_follow_layout():
+    mat = IsotropicElastic(E=1000.0, nu=0.25, rho=2e-9)
+    case = Case(name="two", analysis="plane_strain", thickness=1.0, materials={"m": mat},
+                bodies=[Body("a", Rectangle(0, 0, 2, 1), "m"), Body("b", Rectangle(0, 1, 2, 1), "m")])
+    g = Grid.around(*case.bounds(), 0.5)
+    pt = generate(case, g, 2)
+    pt.x += 0.01  # uniform displacement 0.01
+    nd = NodalFields(g.N, 2, 2)
+    K.p2g_2d(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext, pt.foff, 1.0,
+             g.origin, g.cell, g.nn, pt.lp, UGIMP, True, True, nd.mass, nd.momentum, nd.force,
+             nd.volume, nd.volume_gradient, nd.displacement, nd.position)
+    has = nd.mass > 0
+    np.testing.assert_allclose(nd.displacement[has], 0.01, atol=1e-14)
+    assert nd.volume.sum() == pytest.approx(pt.volume.sum())
+    # mass-weighted position reproduces node-level centroids: x = sum S m x / m
+    for f in (0, 1):
+        sel = pt.field == f
+        assert (nd.mass[:, f, None] * nd.position[:, f]).sum(axis=0) == pytest.approx(
+            pt.mass[sel] @ pt.x[sel])
+    nodes = K.multimaterial_nodes(nd.mass)
+    X = g.node_positions()[nodes]
+    assert nodes.size > 0 and np.all(np.abs(X[:, 1] - 1.01) < 0.51)
+
+
+# ------------------------------------------------------ inputs and errors ----
+
+def test_solve_rejects_bad_options_naming_the_field():
+    case = _block_case()
+    with pytest.raises(CaseError, match="cell"):
+        mpm.solve(case)
+    with pytest.raises(CaseError, match="cell"):
+        mpm.solve(case, cell=-1.0)
+    with pytest.raises(CaseError, match="shape"):
+        mpm.solve(case, cell=0.5, shape="cubic")
+    with pytest.raises(CaseError, match="damping"):
+        mpm.solve(case, cell=0.5, damping="lots")
+    with pytest.raises(CaseError, match="cfl"):
+        mpm.solve(case, cell=0.5, cfl=2.0)
+    axi = case.replace(analysis="axisymmetric")
+    with pytest.raises(CaseError, match="analysis"):
+        mpm.solve(axi, cell=0.5)
+
+
+def test_unstable_time_step_raises_solver_error_with_advice():
+    case = _block_case()
+    c = case.materials["m"].wave_speed("plane_stress")
+    with pytest.raises(SolverError, match="time step"):
+        mpm.solve(case, cell=0.5, dt=3.0 * 0.5 / c, damping="none", progress=False)
