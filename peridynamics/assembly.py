@@ -116,6 +116,7 @@ def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float) -> P
 class Evaluation:
     energy: float
     residual: np.ndarray            # (N, d) dW/dx
+    point_energy: np.ndarray        # (N,) energy of the interactions of each central point
     tangent: sp.csr_matrix | None
     tuples: dict
 
@@ -151,14 +152,15 @@ class CPDSystem:
         f = np.zeros_like(self.X)
         data = np.zeros(self.pattern.nnz if tangent else 0)
         energy = 0.0
+        e_node = np.zeros(self.n_nodes)
         counts = {"pairs": 0, "triples": 0, "quadruples": 0}
         for blk, (c1, c2, c3) in zip(self.blocks, self._cpar):
             e, n1, n2, n3 = assemble(self.X, u, blk.centers, blk.nptr, blk.nidx, c1, c2, c3,
                                      self.vol, tangent, self.pattern.rowptr, self.pattern.cols,
-                                     data, f)
+                                     data, f, e_node)
             energy += e
             counts["pairs"] += n1
             counts["triples"] += n2
             counts["quadruples"] += n3
         K = self.pattern.matrix(data) if tangent else None
-        return Evaluation(energy, f, K, counts)
+        return Evaluation(energy, f, e_node, K, counts)

@@ -105,13 +105,15 @@ def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data):
 
 @njit(cache=True)
 def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
-             rowptr, cols, data, f):
+             rowptr, cols, data, f, e_node):
     """Energy of one material; add its residual to ``f`` and its tangent to ``data``.
 
     X, u: (N, d) reference positions and displacements of all nodes. ``centers`` (M,)
     central nodes of this material, their neighbours ``nidx[nptr[c]:nptr[c+1]]`` (same
     material, within the horizon). C1, C2, C3: (M,) constants per central point, vol:
-    (N,) point volumes. Returns (energy, pairs, triples, quadruples) counted.
+    (N,) point volumes. The energy of the tuples of central point p (V_p times its energy
+    density, 003 Eq 7) is added to ``e_node[p]``. Returns (energy, pairs, triples,
+    quadruples) counted.
     """
     d = X.shape[1]
     energy = 0.0
@@ -122,6 +124,7 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
     H = np.zeros((3, 3, d, d))
     slots = np.zeros(3, np.int64)
     for c in range(centers.shape[0]):
+        e_start = energy
         p = centers[c]
         s0 = nptr[c]
         n = nptr[c + 1] - s0
@@ -341,6 +344,7 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         slots[2] = cc + 1
                         _add_tuple(Kloc, f_loc, slots, 3, d, g, H)
                         n_quad += 1
+        e_node[p] += energy - e_start
         for m in range(nl):
             for al in range(d):
                 f[nodes[m], al] += f_loc[m * d + al]

@@ -41,12 +41,16 @@ class ReducedMatrix:
 
 @dataclass
 class NewtonOptions:
+    """``load_factors`` (increasing, ending at 1) overrides ``load_steps`` equal steps."""
+
     load_steps: int = 1
+    load_factors: tuple = ()
     tol: float = 1e-11
     max_iter: int = 25
     max_cuts: int = 6
     line_search: bool = True
     reuse_factorization: bool = True
+    extrapolate: bool = True
 
 
 @dataclass
@@ -126,6 +130,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     u = np.zeros(n) if u0 is None else u0.astype(float).ravel().copy()
     out = NewtonOutcome(u=u)
     lin = TangentSolver(reuse=opts.reuse_factorization)
+    prev = {"u": None, "lam": 0.0}
     t = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
 
     def evaluate(v, tangent):
@@ -137,8 +142,12 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     def attempt(lam0, lam1):
         """Newton iterations from load factor lam0 to lam1; returns (u, residual list) or None."""
         v = u.copy()
+        if opts.extrapolate and prev["u"] is not None and lam0 > prev["lam"]:
+            # secant predictor: continue the last converged increment (free DOFs)
+            v[free] += (lam1 - lam0) / (lam0 - prev["lam"]) * (u[free] - prev["u"][free])
         v[fixed_dofs] = lam1 * u_bar[fixed_dofs]
         res_hist = []
+        steps = []
         r0 = None
         for it in range(opts.max_iter + 1):
             ev = evaluate(v, True)
@@ -151,7 +160,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                 scale = max(rn, 1e-300)
             res_hist.append(rn / scale)
             if rn <= opts.tol * scale or rn == 0.0:
-                return v, res_hist, ev
+                return v, res_hist, ev, steps
             if it == opts.max_iter:
                 return None
             t0 = time.perf_counter()
@@ -181,13 +190,15 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                 else:
                     return None
             v[free] += alpha * du
+            steps.append(alpha)
         return None
 
+    targets = list(opts.load_factors) if opts.load_factors else \
+        [k / opts.load_steps for k in range(1, opts.load_steps + 1)]
     lam = 0.0
-    dlam = 1.0 / opts.load_steps
     cuts = 0
-    while lam < 1.0 - 1e-14:
-        target = min(1.0, lam + dlam)
+    while targets:
+        target = targets[0]
         got = attempt(lam, target)
         if got is None:
             cuts += 1
@@ -197,13 +208,16 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                     f"after {opts.max_cuts} step cuts (last history: "
                     f"{out.history[-1]['residuals'] if out.history else []}); increase load_steps, "
                     "loosen tol, or check for points crushed by a too-large deformation")
-            dlam *= 0.5
+            targets.insert(0, 0.5 * (lam + target))      # bisect the step
             continue
-        u, hist, ev = got
-        out.history.append({"load": target, "residuals": hist})
+        u, hist, ev, alphas = got
+        out.history.append({"load": target, "residuals": hist, "line_search_steps": alphas})
         out.iterations += len(hist) - 1
         out.last = ev
+        prev["u"], prev["lam"] = out.u, lam
+        out.u = u
         lam = target
+        targets.pop(0)
     out.u = u
     out.timings = t
     out.linear = lin.stats

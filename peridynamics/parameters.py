@@ -139,7 +139,7 @@ def _interior_energy_density(h: float, delta: float, dim: int, C: tuple, H: np.n
     f = np.zeros_like(X)
     Cs = [np.array([C[k]], dtype=float) for k in range(3)]
     e, *_ = assemble(X, u, c, ptr, idx, Cs[0], Cs[1], Cs[2], vol, False,
-                     np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(0), f)
+                     np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(0), f, np.zeros(len(X)))
     return e / h ** dim
 
 

@@ -60,8 +60,13 @@ def _options(case, options: dict) -> dict:
     df = check_number("cpd.delta_factor", o.get("delta_factor", 3.01), low=1.0, low_open=True, high=20.0)
     ov = check_number("cpd.overlap", o.get("overlap", 1.0), low=0.0, high=10.0)
     steps = o.get("load_steps", 1)
-    if not isinstance(steps, (int, np.integer)) or steps < 1:
-        raise CaseError(f"cpd.load_steps must be an integer >= 1, got {steps!r}")
+    if isinstance(steps, (list, tuple, np.ndarray)):
+        f = np.asarray(steps, dtype=float)
+        if f.ndim != 1 or len(f) == 0 or np.any(np.diff(f) <= 0) or f[0] <= 0 or abs(f[-1] - 1.0) > 1e-12:
+            raise CaseError(f"cpd.load_steps as a list must be increasing load factors in (0, 1] ending at 1, got {steps!r}")
+        steps = tuple(float(v) for v in f)
+    elif not isinstance(steps, (int, np.integer)) or steps < 1:
+        raise CaseError(f"cpd.load_steps must be an integer >= 1 or a list of load factors, got {steps!r}")
     tol = check_number("cpd.tol", o.get("tol", 1e-11), low=0, low_open=True, high=1.0)
     max_iter = o.get("max_iter", 25)
     if not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
@@ -69,7 +74,7 @@ def _options(case, options: dict) -> dict:
     cal = o.get("calibration", "continuum")
     if cal not in ("continuum", "lattice"):
         raise CaseError(f"cpd.calibration must be 'continuum' or 'lattice', got {cal!r}")
-    return {"h": h, "delta_factor": df, "overlap": ov, "load_steps": int(steps), "tol": tol,
+    return {"h": h, "delta_factor": df, "overlap": ov, "load_steps": steps, "tol": tol,
             "max_iter": int(max_iter), "calibration": cal, "constants": o.get("constants"),
             "line_search": bool(o.get("line_search", True))}
 
@@ -163,7 +168,8 @@ def solve(case, **options) -> Result:
 
     Options (override ``case.discretization["cpd"]``): ``h`` grid spacing (0.01),
     ``delta_factor`` delta / h (3.01), ``overlap`` overlap width l_ov / delta (1.0; 003
-    Sec 4.3 uses 2, 1, 1/2, 1/4), ``load_steps`` (1), ``tol`` normalised residual (1e-11),
+    Sec 4.3 uses 2, 1, 1/2, 1/4), ``load_steps`` (1) equal load steps or normalised residual (1e-11),
+    a list of increasing load factors ending at 1 (003 Table 3: [0.01, 0.25, 0.5, 0.75, 1]),
     ``max_iter`` per step (25), ``calibration`` ``"continuum"`` (003 / ERRATA 12) or
     ``"lattice"`` (constants rescaled to the grid's interior energy density),
     ``constants`` {material: [C1, C2, C3]} to bypass the (E, nu) conversion,
@@ -184,8 +190,10 @@ def solve(case, **options) -> Result:
     system, used = build_system(case, disc, o["calibration"], o["constants"])
     timings["neighbours_pattern"] = time.perf_counter() - t0
     fixed, u_bar, f_ext = boundary_vectors(disc)
-    nopt = NewtonOptions(load_steps=o["load_steps"], tol=o["tol"], max_iter=o["max_iter"],
-                         line_search=o["line_search"])
+    ls = o["load_steps"]
+    nopt = NewtonOptions(load_steps=ls if isinstance(ls, int) else len(ls),
+                         load_factors=ls if isinstance(ls, tuple) else (), tol=o["tol"],
+                         max_iter=o["max_iter"], line_search=o["line_search"])
     t0 = time.perf_counter()
     outcome = newton_solve(system, fixed, u_bar, f_ext, nopt)
     timings["newton"] = time.perf_counter() - t0
@@ -194,7 +202,8 @@ def solve(case, **options) -> Result:
     U = outcome.u.reshape(-1, d)
     ev = outcome.last
     thick = case.thickness if d == 2 else 1.0
-    q = {"strain_energy": ev.energy * thick, "iterations": float(outcome.iterations),
+    q = {"strain_energy": float(ev.point_energy[~disc.layer].sum()) * thick,
+         "strain_energy_with_layers": ev.energy * thick, "iterations": float(outcome.iterations),
          "load_steps": float(len(outcome.history))}
     fint = ev.residual
     for ps in disc.prescribed:
@@ -218,7 +227,7 @@ def solve(case, **options) -> Result:
         "newton_history": outcome.history,
         "convergence_measure": "L2 norm of the free-DOF residual normalised by its value at the "
                                "first iteration of each load step (003 Table 3)",
-        "iterations": outcome.iterations, "h": h, "delta": delta, "overlap": o["overlap"] * delta,
+        "iterations": outcome.iterations, "linear_solver": outcome.linear, "h": h, "delta": delta, "overlap": o["overlap"] * delta,
         "n_points": int(len(disc.X)), "n_layer_points": int(disc.layer.sum()),
         "n_shared_points": int((disc.member.sum(axis=1) > 1).sum()),
         "n_dofs": int(len(disc.X) * d), "n_free_dofs": int(len(disc.X) * d - len(fixed)),
@@ -227,7 +236,8 @@ def solve(case, **options) -> Result:
         "warnings": warnings,
     }
     fields = {"position": disc.X.copy(), "displacement": U.copy(),
-              "material": disc.material_id.astype(np.int64), "boundary_layer": disc.layer.astype(np.int64)}
+              "material": disc.material_id.astype(np.int64),
+              "energy_density": ev.point_energy / disc.vol, "boundary_layer": disc.layer.astype(np.int64)}
     profiles = line_profiles(case, disc, U) if case.lines else {}
     timings["total"] = time.perf_counter() - t_start
     return Result(method="cpd", case_name=case.name, quantities=q, fields=fields, profiles=profiles,
