@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from scipy.integrate import quad
 from scipy.optimize import minimize_scalar
 
