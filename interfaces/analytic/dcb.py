@@ -57,6 +57,9 @@ class DoubleCantileverBeam:
             set_(name, positive(name, getattr(self, name)))
         set_("Dn", interface_stiffness("Dn", self.Dn, allow_negative=True))
         set_("kb", positive("kb", self.kb, allow_inf=True))
+        if self.foundation_compliance < 0.0 and math.isinf(self.kb):
+            raise CaseError(f"Dn = {self.Dn:g} MPa/mm: a negative Dn needs a finite foundation "
+                            f"stiffness kb to offset it (kb = inf); use Dn >= 0 or give kb")
         if self.foundation_compliance < 0.0:
             raise CaseError(
                 f"Dn = {self.Dn:g} MPa/mm is beyond the rigid-interphase limit: a negative Dn "

@@ -123,6 +123,9 @@ class DoubleLapShear:
         if not isinstance(self.layer_shear, (bool, np.bool_)):
             raise CaseError(f"layer_shear must be True or False, got {self.layer_shear!r}")
         if self.Dt < 0.0:
+            if self.strip_shear_compliance == 0.0:
+                raise CaseError(f"Dt = {self.Dt:g} MPa/mm: a negative Dt needs strips of finite shear "
+                                f"modulus (G1 = G2 = inf leaves no compliance to offset it); use Dt >= 0")
             limit = -1.0 / self.strip_shear_compliance
             if not self.Dt < limit:
                 raise CaseError(

@@ -134,5 +134,7 @@ def test_negative_dn_down_to_the_rigid_limit():
         DoubleCantileverBeam(A, H, W, EXX).C0, rel=1e-12)
     with pytest.raises(CaseError, match="rigid-interphase limit"):
         DoubleCantileverBeam(A, H, W, EXX, 0.5 * limit, KB)
+    with pytest.raises(CaseError, match="negative Dn needs a finite foundation"):
+        DoubleCantileverBeam(A, H, W, EXX, -5.0)
     with pytest.raises(CaseError, match=r"x must lie in \[-25"):
         DoubleCantileverBeam(A, H, W, EXX, 1.0, KB).deflection(-26.0)

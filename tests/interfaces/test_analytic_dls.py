@@ -205,6 +205,8 @@ def test_negative_dt_of_a_stiff_interphase():
         identical(Dt=0.5 * limit)
     with pytest.raises(CaseError, match="Dt"):
         dls_identical_compliance(T, E, G, L_BOND, W, -10.0)  # the printed Eq 40 needs Dt >= 0
+    with pytest.raises(CaseError, match="negative Dt needs strips of finite shear modulus"):
+        DoubleLapShear(T, E, math.inf, T, E, math.inf, L_BOND, W, 0.0, -5.0)
 
 
 def test_rigid_strips_and_perfect_interface():

@@ -143,6 +143,9 @@ def _bad(kind):
         return st.one_of(common, neg, st.just(math.inf))
     if kind == "iface":        # >= 0 or inf
         return st.one_of(common, neg)
+    if kind.startswith("band"):  # a negative interface stiffness between the rigid-interphase limit and 0
+        limit = float(kind.split(":")[1])
+        return st.one_of(common, st.floats(min_value=0.999 * limit, max_value=-1e-9))
     if kind == "nu":
         return st.one_of(common, st.floats(min_value=0.5, max_value=1e6), st.floats(max_value=-1.0, min_value=-1e6))
     if kind == "phi":
@@ -156,10 +159,11 @@ def _dls_kw(t1, E1, G1, t2, E2, G2, l, W, L, Dt):
 
 CASES = [
     (_dls_kw, DLS, {"t1": "pos", "E1": "pos", "G1": "pos_inf", "t2": "pos", "E2": "pos", "G2": "pos_inf",
-                    "l": "pos", "W": "pos", "L": "nonneg"}),
+                    "l": "pos", "W": "pos", "L": "nonneg", "Dt": "band:-1184.2"}),
     (an.dls_identical_compliance, dict(t=0.6, E_yy=1e4, G_xy=500.0, l=25.0, W=10.0, Dt=5.0),
      {"t": "pos", "E_yy": "pos", "G_xy": "pos", "l": "pos", "W": "pos", "Dt": "iface"}),
-    (an.dcb_stiffness, DCB, {"a": "pos", "h": "pos", "W": "pos", "E_xx": "pos", "kb": "pos_inf"}),
+    (an.dcb_stiffness, DCB, {"a": "pos", "h": "pos", "W": "pos", "E_xx": "pos", "kb": "pos_inf",
+                             "Dn": "band:-390.4"}),
     (an.dcb_kb_from_stiffness, dict(k_perfect=0.15, a=25.0, h=0.6, W=10.0, E_xx=1e4),
      {"k_perfect": "pos", "a": "pos", "h": "pos", "W": "pos", "E_xx": "pos"}),
     (an.wave_transmission, dict(f=1e5, Dn=3e4, Z1=0.08, Z2=0.1), {"f": "pos", "Dn": "iface", "Z1": "pos", "Z2": "pos_opt"}),
@@ -167,7 +171,7 @@ CASES = [
     (an.wave_transmission_identical, dict(f=1e5, Dn=3e4, rho=15e-9, E=410e3),
      {"f": "pos", "Dn": "iface", "rho": "pos", "E": "pos"}),
     (an.composite_spheres_bulk_modulus, dict(K_p=4e4, K_m=2e3, G_m=900.0, phi=0.18, a=0.7, Dn=1e4),
-     {"K_p": "pos", "K_m": "pos", "G_m": "pos", "phi": "phi", "a": "pos"}),
+     {"K_p": "pos", "K_m": "pos", "G_m": "pos", "phi": "phi", "a": "pos", "Dn": "band:-171428.5"}),
     (an.bulk_shear_from_young_poisson, dict(E=1e3, nu=0.3), {"E": "pos", "nu": "nu"}),
     (an.sphere_in_cube_volume_fraction, dict(radius=0.3, side=1.0), {"radius": "pos", "side": "pos"}),
     (an.interphase_to_interface, dict(t_i=0.01, E_i=500.0, G_i=200.0, E1=1e4, E2=2e3, G1=800.0, G2=700.0),
