@@ -34,12 +34,12 @@ from typing import Any, Callable
 import numpy as np
 
 from interfaces.analytic._checks import CaseError, interface_stiffness, positive
-from interfaces.errors import check_number
 from interfaces.analytic.composite_spheres import (CompositeSpheres, bulk_shear_from_young_poisson,
                                                     sphere_in_cube_volume_fraction)
 from interfaces.analytic.dcb import DoubleCantileverBeam
 from interfaces.analytic.dls import DoubleLapShear
 from interfaces.analytic.waves import impedance, pulse_transmission, wave_reflection, wave_transmission
+from interfaces.errors import check_number
 
 __all__ = ["MODELS", "PROFILES", "model_names"]
 
@@ -54,7 +54,10 @@ def _named(fn: Callable) -> Callable:
             return fn(**params)
         except CaseError as e:
             msg = str(e)
-            raise CaseError(msg if msg.startswith("analytic") else f"analytic.{msg}") from None
+            first = msg.split(" ", 1)[0]
+            if first in params or first in _PARAMETER_NAMES:
+                msg = f"analytic.{msg}"
+            raise CaseError(msg) from None
     return wrapper
 
 
@@ -209,13 +212,21 @@ def _wave(params: dict[str, Any]) -> tuple[float, float, float, float, dict[str,
             raise CaseError("give analytic.Z1 or analytic.rho (with E or v), not both")
         Z1 = positive("Z1", p["Z1"])
     elif p["rho"] is not None:
+        if p["E"] is None and p["v"] is None:
+            raise CaseError("wave_transmission needs analytic.E or analytic.v with analytic.rho")
         Z1 = impedance(p["rho"], v=p["v"], E=p["E"])
     else:
         raise CaseError("wave_transmission needs analytic.Z1 or analytic.rho with E or v")
     if p["Z2"] is not None:
         Z2 = positive("Z2", p["Z2"])
     elif any(p[k] is not None for k in ("rho2", "E2", "v2")):
-        Z2 = impedance(p["rho2"] if p["rho2"] is not None else p["rho"], v=p["v2"], E=p["E2"])
+        if p["E2"] is None and p["v2"] is None:
+            raise CaseError("material 2 of wave_transmission needs analytic.E2 or analytic.v2")
+        rho2 = p["rho2"] if p["rho2"] is not None else p["rho"]
+        if rho2 is None:
+            raise CaseError("material 2 of wave_transmission needs analytic.rho2")
+        Z2 = impedance(positive("rho2", rho2), v=None if p["v2"] is None else positive("v2", p["v2"]),
+                       E=None if p["E2"] is None else positive("E2", p["E2"]))
     else:
         Z2 = Z1
     return p["f"], p["Dn"], Z1, Z2, p
@@ -320,6 +331,8 @@ def composite_spheres_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     return {"radial": {"r": r, "u_r": m.radial_displacement(r, p["eps0"]),
                        "sigma_rr": m.radial_stress(r, p["eps0"])}}
 
+
+_PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA)
 
 MODELS: dict[str, Callable[..., dict[str, float]]] = {
     "dls_shear_lag": dls_shear_lag,

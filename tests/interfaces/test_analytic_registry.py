@@ -120,6 +120,12 @@ def test_solve_overrides_and_errors():
         an.MODELS["composite_spheres"](**dict(CSA, phi=0.2))
     with pytest.raises(CaseError, match="Z1 or analytic.rho"):
         an.MODELS["wave_transmission"](f=1.0, Dn=1.0)
+    with pytest.raises(CaseError, match="analytic.E or analytic.v"):
+        an.MODELS["wave_transmission"](f=1.0, Dn=1.0, rho=1e-9)
+    with pytest.raises(CaseError, match="analytic.E2 or analytic.v2"):
+        an.MODELS["wave_transmission"](f=1.0, Dn=1.0, rho=1e-9, E=1e3, rho2=2e-9)
+    with pytest.raises(CaseError, match=r"^analytic.Dt = 0 \(debonded\)"):
+        an.PROFILES["dls_shear_lag"](**dict(DLS, Dt=0.0))
     with pytest.raises(CaseError, match="n_points"):
         an.PROFILES["dls_shear_lag"](**DLS, n_points=1)
 
