@@ -75,7 +75,7 @@ DEFAULT_OPTIONS: dict = {
     "edge_cutoff": 0.0,           # screen nodes with Omega_i < cutoff * cell volume (000 Sec 3)
     "default_law": "perfect",     # law for body pairs not listed in case.interfaces
     "rigid_bodies": (),           # names of rigid bodies (000 Eq 28-31)
-    "mass_tolerance": 1.0e-10,    # field present at a node if m_k > tol * m_total
+    "mass_tolerance": 0.0,        # field present at a node if m_k > tol * m_total (0: any mass)
     "lump_conserve": True,        # restore momentum balance on 3+ material nodes
 }
 
