@@ -3,6 +3,8 @@ import math
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 from scipy.integrate import quad
 
 from interfaces.analytic import (DoubleCantileverBeam, dcb_compliance, dcb_deflection,
@@ -21,20 +23,20 @@ def _hermite_beam_fe(m: DoubleCantileverBeam, n_free=40, n_bond=600, bond_length
     k1 = 1.0 / m.foundation_compliance
     Lb = bond_length or 30.0 * m.Delta
     x = np.concatenate([np.linspace(-m.a, 0.0, n_free + 1), np.linspace(0.0, Lb, n_bond + 1)[1:]])
-    ne = x.size - 1
-    K = np.zeros((2 * x.size, 2 * x.size))
-    for e in range(ne):
-        L = x[e + 1] - x[e]
-        ke = EI / L ** 3 * np.array([[12, 6 * L, -12, 6 * L], [6 * L, 4 * L * L, -6 * L, 2 * L * L],
-                                     [-12, -6 * L, 12, -6 * L], [6 * L, 2 * L * L, -6 * L, 4 * L * L]])
-        if x[e] >= 0.0:
-            ke = ke + k1 * L / 420 * np.array([[156, 22 * L, 54, -13 * L], [22 * L, 4 * L * L, 13 * L, -3 * L * L],
-                                               [54, 13 * L, 156, -22 * L], [-13 * L, -3 * L * L, -22 * L, 4 * L * L]])
-        idx = np.arange(2 * e, 2 * e + 4)
-        K[np.ix_(idx, idx)] += ke
+    L = np.diff(x)[:, None, None]
+    one = np.ones_like(L)
+    kb = EI / L ** 3 * np.block([[12 * one, 6 * L, -12 * one, 6 * L], [6 * L, 4 * L * L, -6 * L, 2 * L * L],
+                                 [-12 * one, -6 * L, 12 * one, -6 * L], [6 * L, 2 * L * L, -6 * L, 4 * L * L]])
+    kf = k1 * L / 420 * np.block([[156 * one, 22 * L, 54 * one, -13 * L], [22 * L, 4 * L * L, 13 * L, -3 * L * L],
+                                  [54 * one, 13 * L, 156 * one, -22 * L], [-13 * L, -3 * L * L, -22 * L, 4 * L * L]])
+    ke = kb + kf * (x[:-1] >= 0.0)[:, None, None]
+    idx = 2 * np.arange(x.size - 1)[:, None] + np.arange(4)[None, :]
+    rows = np.repeat(idx, 4, axis=1).ravel()
+    cols = np.tile(idx, (1, 4)).ravel()
+    K = sp.csc_matrix((ke.ravel(), (rows, cols)), shape=(2 * x.size, 2 * x.size))
     F = np.zeros(2 * x.size)
     F[0] = 1.0
-    return np.linalg.solve(K, F)[0]
+    return spla.spsolve(K, F)[0]
 
 
 @pytest.mark.parametrize("Dn", [math.inf, 1e3, 10.0, 1.0, 0.1])
