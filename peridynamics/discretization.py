@@ -1,8 +1,8 @@
 """Point grids, boundary layers and the overlap interface of 003 Sec 3-4.1.
 
-* One common uniform grid (spacing h, centred in the bounding box of all bodies, so the
-  unit square at h = 0.01 holds 100 x 100 points) carries every point; a point is a
-  node (DOF carrier). Point volume V = h^2 (2D, per unit thickness) or h^3.
+* One common uniform grid (spacing h, centred in the bounding box of all bodies; by
+  default vertex-centred, 101 x 101 points on the unit square at h = 0.01, or
+  cell-centred, 100 x 100) carries every point; a point is a node (DOF carrier). Point volume V = h^2 (2D, per unit thickness) or h^3.
 * Each body owns the grid points inside it (holes excluded).
 * Overlap interface (003 Sec 3.1, Fig 2): for every interface pair (a, b) the points of
   b within l_ov / 2 of body a, and the points of a within l_ov / 2 of body b, belong to
@@ -87,14 +87,18 @@ class Discretization:
         return mid
 
 
-def grid_axes(lo: np.ndarray, hi: np.ndarray, h: float, pad: int) -> list[np.ndarray]:
-    """Cell-centred grid coordinates per axis, centred in [lo, hi], padded by ``pad`` rows."""
+def grid_axes(lo: np.ndarray, hi: np.ndarray, h: float, pad: int, grid: str = "vertex") -> list[np.ndarray]:
+    """Grid coordinates per axis, centred in [lo, hi], padded by ``pad`` rows.
+
+    ``"vertex"``: points on the boundaries (and on interfaces through grid lines), n = L/h + 1
+    per axis; ``"cell"``: cell centres, n = L/h per axis (100 x 100 for the unit square).
+    """
     axes = []
     for a, b in zip(lo, hi):
         L = b - a
         r = L / h
         n = int(round(r)) if abs(r - round(r)) < 1e-6 else int(math.floor(r))
-        n = max(n, 1)
+        n = max(n, 1) + (1 if grid == "vertex" else 0)
         off = a + 0.5 * (L - (n - 1) * h)
         axes.append(off + h * np.arange(-pad, n + pad))
     return axes
@@ -132,13 +136,20 @@ def side_frame(case, bc) -> Frame:
     return Frame(shape.origin, shape._rotation(), shape.size)
 
 
-def discretize(case, h: float, delta: float, overlap: float) -> Discretization:
-    """Build the CPD point cloud of ``case`` (003 Sec 3.2, 4.1)."""
+def discretize(case, h: float, delta: float, overlap: float, grid: str = "vertex") -> Discretization:
+    """Build the CPD point cloud of ``case`` (003 Sec 3.2, 4.1).
+
+    ``grid="vertex"`` puts grid points on the outer boundary and on straight interfaces
+    along grid lines; then an overlap of delta/4 holds exactly one interfacial layer, as
+    003 Sec 4.3 (Fig 10) describes. ``"cell"`` uses cell centres.
+    """
+    if grid not in ("vertex", "cell"):
+        raise CaseError(f"cpd.grid must be 'vertex' or 'cell', got {grid!r}")
     d = case.dimension
     names = [b.name for b in case.bodies]
     lo, hi = case.bounds()
     pad = int(math.ceil(delta / h)) + 1
-    axes = grid_axes(np.asarray(lo, float), np.asarray(hi, float), h, pad)
+    axes = grid_axes(np.asarray(lo, float), np.asarray(hi, float), h, pad, grid)
     G = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, d)
     tol = 1e-9 * h
     owner = np.full(len(G), -1, dtype=np.int64)
@@ -162,6 +173,13 @@ def discretize(case, h: float, delta: float, overlap: float) -> Discretization:
             ds = distance_to_shape(case.bodies[other].shape, Xb[sel])
             dist = np.maximum(dn, ds) if ds is not None else np.maximum(dn, 0.0)
             member[sel[dist <= half * (1 + 1e-9) + tol], other] = True
+        shared = member[:, ia] & member[:, ib]
+        touching = np.any(cKDTree(Xb[ob == ia]).query(Xb[ob == ib], distance_upper_bound=1.01 * h * math.sqrt(d))[0] < np.inf) \
+            if np.any(ob == ia) and np.any(ob == ib) else False
+        if touching and not shared.any():
+            raise CaseError(f"cpd.overlap: the overlap band of width {overlap:g} between bodies {pair.a!r} and "
+                            f"{pair.b!r} holds no grid point at h = {h:g}; use an overlap of at least ~h "
+                            "(003 Sec 4.3: the overlap should not be much smaller than delta) or a finer h")
     # ---- boundary layers of depth delta on prescribed sides (003 Sec 4.1) ----
     tree_b = cKDTree(Xb)
     layer_X, layer_src, layer_bc = [], [], []

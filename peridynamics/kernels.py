@@ -50,18 +50,18 @@ def _find(cols, lo, hi, key):
 
 @njit(cache=True)
 def _add_tuple(Kloc, f_loc, slots, k, d, g, H):
-    """Map a tuple's derivatives w.r.t. its relative vectors xi_m = x_m - x_p onto nodes.
+    """Add a tuple's derivatives w.r.t. its relative vectors xi_m = x_m - x_p.
 
-    ``slots[m]`` is the local node index (>= 1) of neighbour m of the tuple, local node 0 is
-    the central point. ``g`` (k, d) is dpsi/dxi_m, ``H`` (k, k, d, d) d2psi/dxi_m dxi_n.
-    Since dxi_m/dx_p = -I: f_p -= sum_m g_m and the central rows/columns of K are the
-    negative sums of the neighbour blocks.
+    ``slots[m]`` is the local node index (>= 1) of neighbour m of the tuple; local node 0
+    is the central point p. ``g`` (k, d) is dpsi/dxi_m, ``H`` (k, k, d, d) the second
+    derivatives. Only the neighbour rows/columns are accumulated here; since
+    dxi_m/dx_p = -I for every tuple of p, the central rows and columns follow once per
+    central point in :func:`_close_central`.
     """
     for m in range(k):
         a = slots[m] * d
         for al in range(d):
             f_loc[a + al] += g[m, al]
-            f_loc[al] -= g[m, al]
     if Kloc.shape[0] == 0:
         return
     for m in range(k):
@@ -70,11 +70,31 @@ def _add_tuple(Kloc, f_loc, slots, k, d, g, H):
             b = slots[n] * d
             for al in range(d):
                 for be in range(d):
-                    h = H[m, n, al, be]
-                    Kloc[a + al, b + be] += h
-                    Kloc[a + al, be] -= h
-                    Kloc[al, b + be] -= h
-                    Kloc[al, be] += h
+                    Kloc[a + al, b + be] += H[m, n, al, be]
+
+
+@njit(cache=True)
+def _close_central(Kloc, f_loc, nl, d):
+    """Central rows/columns: f_p = -sum_m f_m, K_mp = -sum_n K_mn, K_pp = sum_mn K_mn."""
+    for al in range(d):
+        s = 0.0
+        for m in range(1, nl):
+            s += f_loc[m * d + al]
+        f_loc[al] = -s
+    if Kloc.shape[0] == 0:
+        return
+    for r in range(d, nl * d):
+        for be in range(d):
+            s = 0.0
+            for n in range(1, nl):
+                s += Kloc[r, n * d + be]
+            Kloc[r, be] = -s
+    for al in range(d):
+        for c in range(nl * d):
+            s = 0.0
+            for m in range(1, nl):
+                s += Kloc[m * d + al, c]
+            Kloc[al, c] = -s
 
 
 @njit(cache=True)
@@ -345,6 +365,7 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         _add_tuple(Kloc, f_loc, slots, 3, d, g, H)
                         n_quad += 1
         e_node[p] += energy - e_start
+        _close_central(Kloc, f_loc, nl, d)
         for m in range(nl):
             for al in range(d):
                 f[nodes[m], al] += f_loc[m * d + al]

@@ -148,15 +148,17 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
         v[fixed_dofs] = lam1 * u_bar[fixed_dofs]
         res_hist = []
         steps = []
-        r0 = None
-        for it in range(opts.max_iter + 1):
+        scale = None
+        try:
             ev = evaluate(v, True)
+        except ValueError:
+            return None
+        for it in range(opts.max_iter + 1):
             R = ev.residual.ravel()[free] - lam1 * f_ext[free]
             rn = float(np.linalg.norm(R))
             if not np.isfinite(rn):
                 return None
-            if r0 is None:
-                r0 = rn
+            if scale is None:
                 scale = max(rn, 1e-300)
             res_hist.append(rn / scale)
             if rn <= opts.tol * scale or rn == 0.0:
@@ -171,25 +173,30 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             t["linear_solve"] += time.perf_counter() - t0
             if not np.all(np.isfinite(du)):
                 return None
+            # full Newton step, evaluated with the tangent (reused by the next iteration
+            # when accepted); backtracking with energy-only evaluations otherwise
+            w0 = ev.energy - lam1 * float(f_ext[free] @ v[free])
             alpha = 1.0
-            if opts.line_search:
-                w0 = ev.energy - lam1 * float(f_ext[free] @ v[free])
-                for _ in range(8):
-                    trial = v.copy()
-                    trial[free] += alpha * du
-                    try:
-                        et = evaluate(trial, False)
-                    except ValueError:          # points collapsed: shorten the step
-                        alpha *= 0.5
-                        continue
-                    rt = np.linalg.norm(et.residual.ravel()[free] - lam1 * f_ext[free])
-                    wt = et.energy - lam1 * float(f_ext[free] @ trial[free])
-                    if np.isfinite(rt) and (rt < rn or wt <= w0):
-                        break
+            accepted = None
+            for trial_no in range(9 if opts.line_search else 1):
+                trial = v.copy()
+                trial[free] += alpha * du
+                try:
+                    et = evaluate(trial, trial_no == 0)
+                except ValueError:              # points collapsed: shorten the step
                     alpha *= 0.5
-                else:
-                    return None
-            v[free] += alpha * du
+                    continue
+                rt = np.linalg.norm(et.residual.ravel()[free] - lam1 * f_ext[free])
+                wt = et.energy - lam1 * float(f_ext[free] @ trial[free])
+                if not opts.line_search or (np.isfinite(rt) and (rt < rn or wt <= w0)):
+                    accepted = (trial, et)
+                    break
+                alpha *= 0.5
+            if accepted is None:
+                return None
+            v, ev = accepted
+            if ev.tangent is None:
+                ev = evaluate(v, True)
             steps.append(alpha)
         return None
 

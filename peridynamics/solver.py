@@ -24,7 +24,7 @@ from .newton import NewtonOptions, newton_solve
 from .parameters import calibrate, cpd_from_lame, lattice_ratios
 
 OPTIONS = ("h", "delta_factor", "overlap", "load_steps", "tol", "max_iter", "calibration",
-           "constants", "line_search")
+           "constants", "line_search", "grid")
 
 
 def material_constants(case, body, delta: float) -> tuple[float, float, float]:
@@ -76,7 +76,7 @@ def _options(case, options: dict) -> dict:
         raise CaseError(f"cpd.calibration must be 'continuum' or 'lattice', got {cal!r}")
     return {"h": h, "delta_factor": df, "overlap": ov, "load_steps": steps, "tol": tol,
             "max_iter": int(max_iter), "calibration": cal, "constants": o.get("constants"),
-            "line_search": bool(o.get("line_search", True))}
+            "line_search": bool(o.get("line_search", True)), "grid": o.get("grid", "vertex")}
 
 
 def build_system(case, disc: Discretization, calibration: str, constants: dict | None):
@@ -173,7 +173,8 @@ def solve(case, **options) -> Result:
     ``max_iter`` per step (25), ``calibration`` ``"continuum"`` (003 / ERRATA 12) or
     ``"lattice"`` (constants rescaled to the grid's interior energy density),
     ``constants`` {material: [C1, C2, C3]} to bypass the (E, nu) conversion,
-    ``line_search`` (True).
+    ``line_search`` (True), ``grid`` ``"vertex"`` (points on boundaries and straight
+    interfaces; default) or ``"cell"`` (cell centres).
     """
     t_start = time.perf_counter()
     o = _options(case, options)
@@ -181,7 +182,7 @@ def solve(case, **options) -> Result:
     delta = o["delta_factor"] * h
     timings = {}
     t0 = time.perf_counter()
-    disc = discretize(case, h, delta, o["overlap"] * delta)
+    disc = discretize(case, h, delta, o["overlap"] * delta, o["grid"])
     timings["discretize"] = time.perf_counter() - t0
     if not disc.prescribed:
         raise CaseError("boundary_conditions: CPD needs at least one prescribed displacement (fixed, "
