@@ -19,7 +19,9 @@ Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
   origin = (0, 0) and axis = (1, 0) (crack tip and direction into the bonded region).
 * ``wave_transmission`` (002 Eq 48, ERRATA 6): f, Dn, and either Z1 [, Z2] or
   rho, E or v [, rho2, E2 or v2] (material 2 defaults to material 1);
-  profile options n_points = 61.
+  nonlinear = False and pulse = "tensile" | "compressive" (bilinear law perfect in
+  compression); measure = "harmonic" | "pulse_energy" | "pulse_peak" (what
+  ``transmitted_energy`` holds); profile options n_points = 61.
 * ``composite_spheres`` (000 Sec 3): K_p or (E_p, nu_p); K_m, G_m or (E_m, nu_m);
   a (particle radius); phi, or b (outer radius), or cube_side [+ octant = False];
   Dn = inf; Dt, G_p accepted and unused (spherical symmetry); profile options
@@ -202,7 +204,10 @@ def dcb_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
 
 # ---- wave transmission -----------------------------------------------------------
 _WAVE = {"f": ..., "Dn": ..., "Z1": None, "Z2": None, "rho": None, "E": None, "v": None,
-         "rho2": None, "E2": None, "v2": None, "n_points": 61}
+         "rho2": None, "E2": None, "v2": None, "nonlinear": False, "pulse": "tensile",
+         "measure": "harmonic", "n_points": 61}
+_WAVE_MEASURES = {"harmonic": "harmonic", "pulse_energy": "pulse_transmitted_energy",
+                  "pulse_peak": "pulse_peak_ratio_squared"}
 
 
 def _wave(params: dict[str, Any]) -> tuple[float, float, float, float, dict[str, Any]]:
@@ -229,20 +234,44 @@ def _wave(params: dict[str, Any]) -> tuple[float, float, float, float, dict[str,
                        E=None if p["E2"] is None else positive("E2", p["E2"]))
     else:
         Z2 = Z1
-    return p["f"], p["Dn"], Z1, Z2, p
+    if not isinstance(p["nonlinear"], (bool, np.bool_)):
+        raise CaseError(f"analytic.nonlinear must be true or false, got {p['nonlinear']!r}")
+    if p["pulse"] not in ("tensile", "compressive"):
+        raise CaseError(f"analytic.pulse must be 'tensile' or 'compressive', got {p['pulse']!r}")
+    if p["measure"] not in _WAVE_MEASURES:
+        raise CaseError(f"analytic.measure must be one of {', '.join(_WAVE_MEASURES)}, got {p['measure']!r}")
+    Dn = interface_stiffness("Dn", p["Dn"])
+    if p["nonlinear"] and p["pulse"] == "compressive":
+        # bilinear law, perfect in compression (002 Sec 3.3): a compressive pulse keeps the
+        # interface closed, so it crosses a perfect interface; a tensile one keeps it open (Dn)
+        Dn = math.inf
+    return p["f"], Dn, Z1, Z2, p
 
 
 @_named
 def wave_transmission_model(**params) -> dict[str, float]:
     """Normal-incidence energy transmission through a spring interface (002 Eq 48, general Z1, Z2),
-    harmonic and for the single half-sine pulse of Eq 49."""
-    f, Dn, Z1, Z2, _ = _wave(params)
+    harmonic and for the single half-sine pulse of Eq 49.
+
+    ``transmitted_energy`` is the harmonic value of Eq 48 unless ``measure`` selects the
+    pulse energy ratio (``"pulse_energy"``) or the squared peak-stress ratio
+    (``"pulse_peak"``, the amplitude measure of 002 Sec 3.3); all three are always
+    returned under their own names. ``nonlinear`` with ``pulse = "compressive"``: the
+    bilinear law is perfect in compression, so Dn = inf is used."""
+    f, Dn, Z1, Z2, p = _wave(params)
     pulse = pulse_transmission(f, Dn, Z1, Z2)
-    return {"transmitted_energy": wave_transmission(f, Dn, Z1, Z2),
-            "reflected_energy": wave_reflection(f, Dn, Z1, Z2),
-            "pulse_transmitted_energy": pulse["transmitted_energy"],
-            "pulse_peak_ratio_squared": pulse["peak_ratio_squared"],
-            "Z1": Z1, "Z2": Z2}
+    out = {"transmitted_energy": wave_transmission(f, Dn, Z1, Z2),
+           "reflected_energy": wave_reflection(f, Dn, Z1, Z2),
+           "pulse_transmitted_energy": pulse["transmitted_energy"],
+           "pulse_peak_ratio_squared": pulse["peak_ratio_squared"],
+           "harmonic_transmitted_energy": pulse["harmonic_transmission"],
+           "Z1": Z1, "Z2": Z2}
+    key = _WAVE_MEASURES[p["measure"]]
+    if key != "harmonic":
+        out["transmitted_energy"] = out[key]
+        out["reflected_energy"] = 1.0 - out[key] if key == "pulse_peak_ratio_squared" \
+            else pulse["reflected_energy"]
+    return out
 
 
 @_named

@@ -39,6 +39,15 @@ def test_models_return_the_underlying_functions_values():
     assert q["transmitted_energy"] + q["reflected_energy"] == pytest.approx(1.0, rel=1e-14)
     q2 = an.MODELS["wave_transmission"](f=1e5, Dn=3e4, Z1=Z, Z2=3 * Z)
     assert q2["transmitted_energy"] == an.wave_transmission(1e5, 3e4, Z, 3 * Z)
+    qp = an.MODELS["wave_transmission"](**WAVE, measure="pulse_energy")
+    assert qp["transmitted_energy"] == an.pulse_transmission(1e5, 3e4, Z)["transmitted_energy"]
+    assert qp["transmitted_energy"] + qp["reflected_energy"] == pytest.approx(1.0, rel=1e-9)
+    qk = an.MODELS["wave_transmission"](**WAVE, measure="pulse_peak", nonlinear=True, pulse="tensile")
+    assert qk["transmitted_energy"] == an.pulse_transmission(1e5, 3e4, Z)["peak_ratio_squared"]
+    qc = an.MODELS["wave_transmission"](**WAVE, nonlinear=True, pulse="compressive")
+    assert qc["transmitted_energy"] == 1.0 and qc["pulse_transmitted_energy"] == 1.0
+    with pytest.raises(CaseError, match="analytic.measure must be one of"):
+        an.MODELS["wave_transmission"](**WAVE, measure="peak")
     q3 = an.MODELS["wave_transmission"](f=1e5, Dn=3e4, rho=15e-9, E=410e3, rho2=5e-9, v2=3e6)
     assert q3["Z2"] == pytest.approx(5e-9 * 3e6, rel=1e-15)
     q = an.MODELS["composite_spheres"](**CSA)
