@@ -11,7 +11,7 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import BilinearForm, CellBasis, FacetBasis, LinearForm
 
-from .interface_element import stiffness_batch
+from .interface_element import jump_stiffness_batch
 
 
 def strain_voigt(grad, value, x, axisymmetric: bool):
@@ -65,16 +65,32 @@ def facet_load(mesh, element, facets: np.ndarray, traction: np.ndarray, thicknes
     return load.assemble(fb)
 
 
-def interface_stiffness(xy: np.ndarray, dofs: np.ndarray, Dn: np.ndarray, Dt: np.ndarray,
-                        thickness: float, axisymmetric: bool, ndof: int) -> sp.csr_matrix:
-    """Global sparse matrix of interface elements (002 Eq 15-19) with element DOFs ``dofs``."""
+def jump_operator(pairs, ndof: int) -> sp.csr_matrix:
+    """Nodal jumps in the interface frame of each node pair, J = (n.(u_b - u_a), t.(u_b - u_a)):
+    a (2k, ndof) matrix for the k pairs of ``pairs`` (``fem.interface_mesh.NodePairs``).
+    With u = T q + g, J = (D T) q + D g cancels the shared body-a unknowns exactly."""
+    k = len(pairs.a)
+    R = np.stack([pairs.n, pairs.t], axis=1)                     # (k, 2 rows n/t, 2 comps)
+    rows = np.repeat(np.arange(2 * k), 4)
+    cols = np.stack([np.stack([pairs.b + c, pairs.a + c], axis=1) for c in (0, 1)], axis=1)   # (k, 2c, 2)
+    cols = np.broadcast_to(cols[:, None], (k, 2, 2, 2)).reshape(-1)
+    vals = (R[:, :, :, None] * np.array([1.0, -1.0])).reshape(-1)
+    return sp.coo_matrix((vals, (rows, cols)), shape=(2 * k, ndof)).tocsr()
+
+
+def jump_stiffness(xy: np.ndarray, jump_nodes: np.ndarray, frames: np.ndarray, Dn: np.ndarray,
+                   Dt: np.ndarray, thickness: float, axisymmetric: bool, npairs: int) -> sp.csr_matrix:
+    """Interface stiffness (002 Eq 15-19) acting on nodal jumps in the node frames
+    (``frames`` (m, n, 2, 2), columns n and t): 1/2 J^T K J is the interface energy.
+    ``jump_nodes`` (m, n) indexes the node pairs."""
     if len(xy) == 0:
-        return sp.csr_matrix((ndof, ndof))
-    Ke = stiffness_batch(xy, Dn, Dt, thickness=thickness, axisymmetric=axisymmetric)
-    nd = dofs.shape[1]
-    rows = np.repeat(dofs, nd, axis=1).ravel()
-    cols = np.tile(dofs, (1, nd)).ravel()
-    return sp.coo_matrix((Ke.ravel(), (rows, cols)), shape=(ndof, ndof)).tocsr()
+        return sp.csr_matrix((2 * npairs, 2 * npairs))
+    n = xy.shape[1]
+    Kj = jump_stiffness_batch(xy, Dn, Dt, thickness=thickness, axisymmetric=axisymmetric, node_frames=frames)
+    dofs = np.stack([2 * jump_nodes, 2 * jump_nodes + 1], axis=2).reshape(len(xy), -1)
+    rows = np.repeat(dofs, 2 * n, axis=1).ravel()
+    cols = np.tile(dofs, (1, 2 * n)).ravel()
+    return sp.coo_matrix((Kj.ravel(), (rows, cols)), shape=(2 * npairs, 2 * npairs)).tocsr()
 
 
-__all__ = ["bulk_stiffness", "facet_load", "interface_stiffness", "strain_voigt"]
+__all__ = ["bulk_stiffness", "facet_load", "jump_operator", "jump_stiffness", "strain_voigt"]

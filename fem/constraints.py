@@ -7,7 +7,10 @@ never with a large penalty number:
 * one perfect direction m (unit normal or tangent of a straight interface):
   m . (u_A - u_B) = 0 at every interface node, one DOF of the pair is eliminated
   (u_s = -sum_{j != s} c_j u_j / c_s with the largest pivot |c_s|);
-* prescribed displacements: u_d = g_d.
+* prescribed displacements: u_d = g_d;
+* everywhere else on an interface, jump unknowns in the interface frame replace the
+  body-b displacements (u_b = u_a + n j_n + t j_t), so that a large finite D sits on its
+  own unknown and stays well conditioned.
 
 The reduced system is K_red = T^T K T, f_red = T^T (f - K g): symmetric positive
 definite whenever the constrained structure has no rigid motion, and as well
@@ -21,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from interfaces.errors import CaseError
+from interfaces.errors import CaseError, SolverError
 
 
 @dataclass
@@ -36,11 +39,23 @@ class Elimination:
     def expand(self, q: np.ndarray) -> np.ndarray:
         return self.T @ q + self.g
 
-    def reduce(self, K: sp.spmatrix, f: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
-        KT = (K @ self.T).tocsr()
-        Kr = (self.T.T @ KT).tocsr()
+    def reduce(self, K: sp.spmatrix, f: np.ndarray, jumps: sp.spmatrix | None = None,
+               K_jump: sp.spmatrix | None = None) -> tuple[sp.csr_matrix, np.ndarray]:
+        """T^T K T and T^T (f - K g), plus G^T K_J G, -G^T K_J h for an interface stiffness
+        K_J acting on the nodal jumps J = jumps @ u = G q + h (exact cancellation)."""
+        Kr = (self.T.T @ (K @ self.T)).tocsr()
         fr = self.T.T @ (f - K @ self.g)
+        if K_jump is not None and K_jump.shape[0]:
+            G, h = self.jump_map(jumps)
+            Kr = (Kr + G.T @ (K_jump @ G)).tocsr()
+            fr = fr - G.T @ (K_jump @ h)
         return Kr, fr
+
+    def jump_map(self, jumps: sp.spmatrix) -> tuple[sp.csr_matrix, np.ndarray]:
+        """G, h with J = G q + h."""
+        G = (jumps @ self.T).tocsr()
+        G.eliminate_zeros()
+        return G, jumps @ self.g
 
 
 def _representatives(ndof: int, ties: np.ndarray) -> np.ndarray:
@@ -55,9 +70,11 @@ def _representatives(ndof: int, ties: np.ndarray) -> np.ndarray:
     return rep_of_label[label]
 
 
-def build_elimination(ndof: int, ties=(), directional_a=(), directional_b=(), directions=(),
-                      prescribed=(), values=(), scale: float = 1.0) -> Elimination:
-    """Build u = T q + g from exact constraints.
+def _core(ndof: int, ties=(), directional_a=(), directional_b=(), directions=(),
+          prescribed=(), values=(), scale: float = 1.0, special=None):
+    """Rows of u = T q + g for ties, one-direction constraints and prescribed DOFs.
+
+    DOFs flagged in ``special`` get no row and no column here (the caller writes them).
 
     ties: (k, 2) DOF pairs with equal displacement; directional_a/_b: (k, 2) [x, y] DOFs
     of the two nodes and directions (k, 2) unit vectors m with m . (u_a - u_b) = 0;
@@ -130,14 +147,15 @@ def build_elimination(ndof: int, ties=(), directional_a=(), directional_b=(), di
     is_slave[slave] = True
 
     # free unknowns: representatives neither prescribed nor eliminated
-    free = np.flatnonzero((rep == np.arange(ndof)) & ~is_presc & ~is_slave)
+    special = np.zeros(ndof, bool) if special is None else special
+    free = np.flatnonzero((rep == np.arange(ndof)) & ~is_presc & ~is_slave & ~special)
     col = np.full(ndof, -1, dtype=np.int64)
     col[free] = np.arange(len(free))
 
     rows, cols, vals = [], [], []
     g = np.zeros(ndof)
     r = rep
-    m_free = col[r] >= 0
+    m_free = (col[r] >= 0) & ~special
     rows.append(np.flatnonzero(m_free))
     cols.append(col[r[m_free]])
     vals.append(np.ones(m_free.sum()))
@@ -161,6 +179,63 @@ def build_elimination(ndof: int, ties=(), directional_a=(), directional_b=(), di
             vals.append(wj[fr])
             pr = is_presc[dj] & (wj != 0)
             np.add.at(g, d_all[pr], wj[pr] * presc[dj[pr]])
+    return rows, cols, vals, g, free, col, is_presc
+
+
+def build_elimination(ndof: int, pairs=None, prescribed=(), values=(), scale: float = 1.0) -> Elimination:
+    """u = T q + g for interface node ``pairs`` (``fem.interface_mesh.NodePairs``) and
+    prescribed DOFs/values (mm).
+
+    Interface node pairs away from supports and junctions (the usual case) get jump
+    unknowns in the interface frame: u_b = u_a + n j_n + t j_t, where a perfect direction
+    simply has no unknown (exact tie, 002 Eq 1 with D = inf). A large finite D then
+    multiplies only its own jump unknown, so D = 1e12 is as well conditioned as D = inf
+    and converges to it as 1/D. Pairs touching prescribed DOFs or other pairs fall back to
+    general elimination (ties, one-direction constraints with the largest pivot).
+    """
+    from_pairs = pairs is not None and len(pairs.a) > 0
+    pd = np.asarray(prescribed, dtype=np.int64)
+    special = np.zeros(ndof, bool)
+    ties = np.zeros((0, 2), dtype=np.int64)
+    da = db = np.zeros((0, 2), dtype=np.int64)
+    dirs = np.zeros((0, 2))
+    jump = np.zeros(0, dtype=bool)
+    if from_pairs:
+        node_presc = np.zeros(ndof, bool)
+        node_presc[pd - pd % 2] = True
+        count = np.bincount(np.concatenate([pairs.a, pairs.b]), minlength=ndof)
+        jump = (pairs.straight & ~node_presc[pairs.a] & ~node_presc[pairs.b]
+                & (count[pairs.a] == 1) & (count[pairs.b] == 1))
+        special[pairs.b[jump]] = True
+        special[pairs.b[jump] + 1] = True
+        rest = ~jump
+        both = rest & pairs.perfect_n & pairs.perfect_t
+        ties = np.concatenate([np.stack([pairs.a[both] + c, pairs.b[both] + c], axis=1) for c in (0, 1)])
+        one_n = rest & pairs.perfect_n & ~pairs.perfect_t
+        one_t = rest & pairs.perfect_t & ~pairs.perfect_n
+        sel = one_n | one_t
+        da = np.stack([pairs.a[sel], pairs.a[sel] + 1], axis=1)
+        db = np.stack([pairs.b[sel], pairs.b[sel] + 1], axis=1)
+        dirs = np.where(one_n[sel, None], pairs.n[sel], pairs.t[sel])
+    rows, cols, vals, g, free, col, is_presc = _core(ndof, ties, da, db, dirs, pd, values, scale, special)
+    labels = [free]
+    if from_pairs and jump.any():
+        a, b = pairs.a[jump], pairs.b[jump]
+        ncol = len(free)
+        if np.any(col[a] < 0) or np.any(col[a + 1] < 0):   # guaranteed by the selection above
+            raise SolverError("internal: a jump pair's body-a node is not a free unknown")
+        jn = ~pairs.perfect_n[jump]
+        jt = ~pairs.perfect_t[jump]
+        col_n = np.full(len(a), -1)
+        col_t = np.full(len(a), -1)
+        col_n[jn] = ncol + np.arange(jn.sum())
+        col_t[jt] = ncol + jn.sum() + np.arange(jt.sum())
+        labels += [b[jn], b[jt] + 1]
+        for c in (0, 1):                       # u_b[c] = u_a[c] + n[c] j_n + t[c] j_t
+            rows += [b + c, b[jn] + c, b[jt] + c]
+            cols += [col[a + c], col_n[jn], col_t[jt]]
+            vals += [np.ones(len(a)), pairs.n[jump][jn, c], pairs.t[jump][jt, c]]
+    free = np.concatenate(labels)
     T = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                       shape=(ndof, len(free))).tocsr()
     return Elimination(T=T, g=g, free=free)

@@ -54,6 +54,7 @@ __all__ = [
     "shape_functions",
     "stiffness",
     "stiffness_batch",
+    "jump_stiffness_batch",
     "interface_energy",
     "jumps",
     "frame",
@@ -149,14 +150,16 @@ def _thickness_weight(pos: np.ndarray, thickness: float, axisymmetric: bool) -> 
     return np.full(pos.shape[:-1], t)
 
 
-def stiffness_batch(xy, Dn, Dt, thickness: float = 1.0, axisymmetric: bool = False,
-                    n_gauss: int | None = None) -> np.ndarray:
-    """Stiffness matrices of m interface elements at once (002 Eq 15-19).
+def jump_stiffness_batch(xy, Dn, Dt, thickness: float = 1.0, axisymmetric: bool = False,
+                         n_gauss: int | None = None, node_frames=None) -> np.ndarray:
+    """Element stiffness on the nodal jumps J_i = u_i - u_(2n+1-i), i = 1..n: (m, 2n, 2n).
 
-    ``xy``: (m, n, 2) side-1 node coordinates; ``Dn``, ``Dt``: scalars or (m,) arrays
-    (MPa/mm, finite, may be 0 or negative). Returns (m, 4n, 4n) in the DOF order
-    (u1, v1, ..., u2n, v2n); thickness in mm (ignored when ``axisymmetric``, where
-    t -> r(xi) and the matrix is per radian).
+    Since [u] = sum_i N_i J_i (002 Eq 8-11), phi = 1/2 J^T K_J J with
+    K_J[i, j] = t int N_i N_j (Dn a_i a_j^T + Dt b_i b_j^T) dl/dxi dxi,
+    a_i = R_i^T n1, b_i = R_i^T t1, where R_i = [n_i t_i] is an optional frame per node
+    (``node_frames`` (m, n, 2, 2), columns normal and tangent) and the identity otherwise.
+    In the interface frame of a straight element K_J is diagonal in (normal, tangential)
+    parts, so a huge Dn never mixes with Dt through round-off.
     """
     xy = _check_xy(xy)
     m, n = xy.shape[:2]
@@ -164,14 +167,41 @@ def stiffness_batch(xy, Dn, Dt, thickness: float = 1.0, axisymmetric: bool = Fal
     Dt = _check_D("Dt", Dt, m)
     xi, w = _quadrature(n, n_gauss)
     N, _ = shape_functions(n, xi)
-    Ne = _extended(N)                                       # (q, 2n)
     pos, n1, t1, J = frame(xy, xi)
     weight = w[None, :] * J * _thickness_weight(pos, thickness, axisymmetric)   # (m, q)
-    # local constitutive matrix in global axes: Dn n1 n1^T + Dt t1 t1^T (002 Eq 7)
-    A = (Dn[:, None, None, None] * n1[..., :, None] * n1[..., None, :]
-         + Dt[:, None, None, None] * t1[..., :, None] * t1[..., None, :])   # (m, q, 2, 2)
-    K = np.einsum("mq,qi,qj,mqab->miajb", weight, Ne, Ne, A, optimize=True)
-    return K.reshape(m, 4 * n, 4 * n)
+    if node_frames is None:
+        a = np.broadcast_to(n1[:, :, None, :], (m, len(xi), n, 2))
+        b = np.broadcast_to(t1[:, :, None, :], (m, len(xi), n, 2))
+    else:
+        R = np.asarray(node_frames, dtype=float)
+        if R.shape != (m, n, 2, 2):
+            raise ValueError(f"interface element: node_frames must have shape {(m, n, 2, 2)}, got {R.shape}")
+        a = np.einsum("miab,mqa->mqib", R, n1)                 # components of n1 in node frames
+        b = np.einsum("miab,mqa->mqib", R, t1)
+    K = (np.einsum("m,mq,qi,qj,mqia,mqjb->miajb", Dn, weight, N, N, a, a, optimize=True)
+         + np.einsum("m,mq,qi,qj,mqia,mqjb->miajb", Dt, weight, N, N, b, b, optimize=True))
+    return K.reshape(m, 2 * n, 2 * n)
+
+
+def stiffness_batch(xy, Dn, Dt, thickness: float = 1.0, axisymmetric: bool = False,
+                    n_gauss: int | None = None) -> np.ndarray:
+    """Stiffness matrices of m interface elements at once (002 Eq 15-19).
+
+    ``xy``: (m, n, 2) side-1 node coordinates; ``Dn``, ``Dt``: scalars or (m,) arrays
+    (MPa/mm, finite, may be 0 or negative). Returns (m, 4n, 4n) in the DOF order
+    (u1, v1, ..., u2n, v2n); thickness in mm (ignored when ``axisymmetric``, where
+    t -> r(xi) and the matrix is per radian). With the extended shape functions of
+    002 Eq 10, [N, -N P] (P reverses the node order), the matrix is
+    [[K_J, -K_J P], [-P K_J, P K_J P]] with K_J from :func:`jump_stiffness_batch`.
+    """
+    KJ = jump_stiffness_batch(xy, Dn, Dt, thickness, axisymmetric, n_gauss)
+    m, n2 = KJ.shape[:2]
+    n = n2 // 2
+    rev = np.arange(n)[::-1]
+    P = np.stack([2 * rev, 2 * rev + 1], axis=1).ravel()      # node reversal on (x, y) DOFs
+    KP = KJ[:, :, P]
+    return np.concatenate([np.concatenate([KJ, -KP], axis=2),
+                           np.concatenate([-KP.transpose(0, 2, 1), KJ[:, P][:, :, P]], axis=2)], axis=1)
 
 
 def stiffness(xy, Dn: float, Dt: float, thickness: float = 1.0, axisymmetric: bool = False,

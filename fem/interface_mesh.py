@@ -9,7 +9,6 @@ node 2n+1-i of the element sits at the position of node i.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -119,55 +118,65 @@ def find_interface_elements(case, mesh, basis, element_body: np.ndarray, order: 
     return out
 
 
-def perfect_constraints(elements: list[InterfaceElements], tol_angle: float = 1e-9):
-    """Exact constraints of the perfect directions (D = inf) at interface node pairs.
+@dataclass
+class NodePairs:
+    """The coincident node pairs of all interfaces, one entry per body-b node: x-DOFs
+    ``a``/``b`` (y-DOF = x-DOF + 1), the side-1 normal ``n`` and tangent ``t`` (unit), whether
+    the frame is unique at the node (``straight``: all elements at the node agree), and
+    whether the normal / tangential direction is perfect (D = inf) in an element there
+    (the D -> inf limit of one element forces the jump to zero at all of its nodes)."""
 
-    A node pair is constrained in a direction if any element containing it is perfect in
-    that direction (the D -> inf limit of that element forces the jump to zero at all of
-    its nodes). Returns ``ties`` (k, 2) DOF pairs (both directions perfect) and the
-    one-direction constraints ``(dofs_a, dofs_b, directions)``; a one-direction constraint
-    needs a unique direction at the node (straight interface), else CaseError.
-    """
-    ties, da, db, dirs = [], [], [], []
-    for el in elements:
+    a: np.ndarray
+    b: np.ndarray
+    n: np.ndarray
+    t: np.ndarray
+    straight: np.ndarray
+    perfect_n: np.ndarray
+    perfect_t: np.ndarray
+
+
+def node_pairs(elements: list[InterfaceElements], tol_angle: float = 1e-9) -> NodePairs:
+    """Collect the interface node pairs of all elements (vectorized over elements)."""
+    if not elements:
+        z = np.zeros(0, dtype=np.int64)
+        return NodePairs(z, z, np.zeros((0, 2)), np.zeros((0, 2)), z.astype(bool), z.astype(bool), z.astype(bool))
+    nb, na, n1, t1, pn, pt = [], [], [], [], [], []
+    for el in elements:          # one entry per interface pair (a handful), each vectorized
         m, n = el.node_b.shape
-        pn = np.repeat(np.isinf(el.Dn), n)
-        pt = np.repeat(np.isinf(el.Dt), n)
-        if not (pn.any() or pt.any()):
-            continue
-        xi = np.linspace(-1.0, 1.0, n)
-        _, n1, t1, _ = frame(el.xy, xi)
-        nb, na = el.node_b.ravel(), el.node_a.ravel()
-        n1, t1 = n1.reshape(-1, 2), t1.reshape(-1, 2)
-        key, inv = np.unique(nb, return_inverse=True)
-        any_n = np.zeros(len(key), bool)
-        any_t = np.zeros(len(key), bool)
-        np.logical_or.at(any_n, inv, pn)
-        np.logical_or.at(any_t, inv, pt)
-        node_a = np.empty(len(key), dtype=np.int64)
-        node_a[inv] = na
-        both = any_n & any_t
-        for comp in (0, 1):
-            ties.append(np.stack([key[both] + comp, node_a[both] + comp], axis=1))
-        for flag, vec, other in ((any_n & ~any_t, n1, "normal"), (any_t & ~any_n, t1, "tangential")):
-            if not flag.any():
-                continue
-            sel = flag[inv]
-            v = vec[sel]
-            k_sel = inv[sel]
-            # all elements meeting at a node must agree on the direction (straight interface)
-            ref = np.zeros((len(key), 2))
-            ref[k_sel] = v
-            if np.any(np.abs(v[:, 0] * ref[k_sel, 1] - v[:, 1] * ref[k_sel, 0]) > math.sqrt(tol_angle)):
-                raise CaseError(f"interfaces[{el.pair}]: a {other}-only perfect interface must be straight "
-                                f"at every node; {el.a!r}-{el.b!r} has a kink or curvature (use finite D there)")
-            idx = np.flatnonzero(flag)
-            da.append(np.stack([node_a[idx], node_a[idx] + 1], axis=1))
-            db.append(np.stack([key[idx], key[idx] + 1], axis=1))
-            dirs.append(ref[idx])
-    cat = lambda lst, shape: np.concatenate(lst) if lst else np.zeros(shape)  # noqa: E731
-    return (cat(ties, (0, 2)).astype(np.int64), cat(da, (0, 2)).astype(np.int64),
-            cat(db, (0, 2)).astype(np.int64), cat(dirs, (0, 2)))
+        _, nn, tt, _ = frame(el.xy, np.linspace(-1.0, 1.0, n))
+        nb.append(el.node_b.ravel())
+        na.append(el.node_a.ravel())
+        n1.append(nn.reshape(-1, 2))
+        t1.append(tt.reshape(-1, 2))
+        pn.append(np.repeat(np.isinf(el.Dn), n))
+        pt.append(np.repeat(np.isinf(el.Dt), n))
+    nb, na, n1, t1, pn, pt = (np.concatenate(v) for v in (nb, na, n1, t1, pn, pt))
+    key, first, inv = np.unique(nb, return_index=True, return_inverse=True)
+    any_n = np.zeros(len(key), bool)
+    any_t = np.zeros(len(key), bool)
+    np.logical_or.at(any_n, inv, pn)
+    np.logical_or.at(any_t, inv, pt)
+    node_a = na[first]
+    if np.any(na != node_a[inv]):
+        raise CaseError("interfaces: a node of one body faces two different nodes (overlapping interfaces)")
+    ref_n, ref_t = n1[first], t1[first]
+    cross = np.abs(n1[:, 0] * ref_n[inv, 1] - n1[:, 1] * ref_n[inv, 0])
+    kink = np.zeros(len(key), bool)
+    np.logical_or.at(kink, inv, cross > np.sqrt(tol_angle))
+    return NodePairs(node_a, key, ref_n, ref_t, ~kink, any_n, any_t)
 
 
-__all__ = ["InterfaceElements", "find_interface_elements", "perfect_constraints"]
+def pair_index(pairs: NodePairs, node_b: np.ndarray) -> np.ndarray:
+    """Index into ``pairs`` of body-b x-DOFs (e.g. an element's side-1 nodes)."""
+    return np.searchsorted(pairs.b, node_b)
+
+
+def check_one_direction_straight(pairs: NodePairs, elements: list[InterfaceElements]) -> None:
+    """A one-direction perfect constraint needs a unique interface direction at the node."""
+    bad = (pairs.perfect_n ^ pairs.perfect_t) & ~pairs.straight
+    if np.any(bad):
+        raise CaseError("interfaces: a normal-only or tangential-only perfect interface must be straight at "
+                        "every node; found a kink (use finite D there, or a fully perfect interface)")
+
+
+__all__ = ["InterfaceElements", "NodePairs", "find_interface_elements", "node_pairs", "pair_index", "check_one_direction_straight"]

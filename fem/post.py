@@ -8,7 +8,7 @@ from scipy.spatial import cKDTree
 from skfem import CellBasis
 
 from .assembly import strain_voigt
-from .interface_element import frame, jumps
+from .interface_element import frame, shape_functions
 
 
 def vertex_stress(mesh, element, u: np.ndarray, element_body: np.ndarray, moduli: list[np.ndarray],
@@ -36,16 +36,20 @@ def vertex_stress(mesh, element, u: np.ndarray, element_body: np.ndarray, moduli
     return acc / np.maximum(cnt, 1.0)[:, None]
 
 
-def interface_profile(el, u: np.ndarray, points_per_element: int = 3) -> dict[str, np.ndarray]:
-    """Jumps [u_n], [u_t] (u_b - u_a, normal from a to b) and finite tractions along one
-    interface at Gauss points of its elements, ordered by arc length ``s`` from one end."""
+def interface_profile(el, nodal_jumps: np.ndarray, points_per_element: int = 3) -> dict[str, np.ndarray]:
+    """Jumps [u_n], [u_t] (u_b - u_a, normal from a to b, 002 Eq 6 and 9) and the finite
+    tractions Dn [u_n], Dt [u_t] along one interface, at Gauss points of its elements,
+    ordered by the arc length ``s`` from one end; ``nodal_jumps`` (m, n, 2) are the jumps
+    at the elements' side-1 nodes (global x, y components)."""
     xi, _ = np.polynomial.legendre.leggauss(points_per_element)
-    jn, jt = jumps(el.xy, u[el.dofs], xi=xi)
-    pos, _, t1, _ = frame(el.xy, xi)
+    N, _ = shape_functions(el.xy.shape[1], xi)
+    jump = np.einsum("qi,mia->mqa", N, nodal_jumps)
+    pos, n1, t1, _ = frame(el.xy, xi)
+    jn = np.einsum("mqa,mqa->mq", jump, n1).ravel()
+    jt = np.einsum("mqa,mqa->mq", jump, t1).ravel()
     pos = pos.reshape(-1, 2)
     ends = el.xy[:, [0, -1]].reshape(-1, 2)
-    direction = ends.max(axis=0) - ends.min(axis=0)
-    k = int(np.argmax(np.abs(direction)))
+    k = int(np.argmax(ends.max(axis=0) - ends.min(axis=0)))
     start = ends[np.argmin(ends[:, k])]
     chord = ends[np.argmax(ends[:, k])] - start
     chord /= np.linalg.norm(chord)
@@ -53,11 +57,10 @@ def interface_profile(el, u: np.ndarray, points_per_element: int = 3) -> dict[st
     order = np.argsort(s, kind="stable")
     Dn = np.repeat(el.Dn, len(xi))
     Dt = np.repeat(el.Dt, len(xi))
-    jn, jt = jn.ravel(), jt.ravel()
     with np.errstate(invalid="ignore"):
         Tn = np.where(np.isinf(Dn), np.nan, Dn * jn)
         Tt = np.where(np.isinf(Dt), np.nan, Dt * jt)
-    sign = np.sign(np.einsum("qa,a->q", t1.reshape(-1, 2), chord))
+    sign = np.sign(np.einsum("qa,a->q", t1.reshape(-1, 2), chord))   # tangent along increasing s
     return {"s": s[order], "x": pos[order, 0], "y": pos[order, 1], "jump_n": jn[order],
             "jump_t": (jt * sign)[order], "traction_n": Tn[order], "traction_t": (Tt * sign)[order],
             "Dn": Dn[order], "Dt": Dt[order]}

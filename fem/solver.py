@@ -33,9 +33,9 @@ from interfaces.errors import CaseError, SolverError
 from interfaces.laws import LinearInterface
 from interfaces.result import Result
 
-from .assembly import bulk_stiffness, facet_load, interface_stiffness
+from .assembly import bulk_stiffness, facet_load, jump_operator, jump_stiffness
 from .constraints import build_elimination
-from .interface_mesh import find_interface_elements, perfect_constraints
+from .interface_mesh import check_one_direction_straight, find_interface_elements, node_pairs, pair_index
 from .mesh import build_mesh, default_element_size
 from .post import interface_profile, line_profile, vertex_stress
 
@@ -196,10 +196,15 @@ def solve(case, **options) -> Result:
         warnings.append(f"bodies {p.a!r} and {p.b!r} touch without a declared interface: bonded perfectly")
     pair_case = case if not implicit else _with_pairs(case, implicit)
     ielems = find_interface_elements(pair_case, mesh, basis, bm.element_body, order, tol)
-    K_int = sp.csr_matrix((ndof, ndof))
-    for el in ielems:
-        K_int = K_int + interface_stiffness(el.xy, el.dofs, el.finite_Dn, el.finite_Dt, thickness, axisym, ndof)
-    K = (K_bulk + K_int).tocsr()
+    pairs = node_pairs(ielems)
+    check_one_direction_straight(pairs, ielems)
+    jumps = jump_operator(pairs, ndof)
+    K_jump = sp.csr_matrix((2 * len(pairs.a), 2 * len(pairs.a)))
+    for el in ielems:   # one vectorized block per interface pair
+        idx = pair_index(pairs, el.node_b)
+        frames = np.stack([pairs.n[idx], pairs.t[idx]], axis=-1)         # (m, n, 2, 2) columns n, t
+        K_jump = K_jump + jump_stiffness(el.xy, idx, frames, el.finite_Dn, el.finite_Dt,
+                                         thickness, axisym, len(pairs.a))
 
     f = np.zeros(ndof)
     presc_d, presc_v = [], []
@@ -230,7 +235,6 @@ def solve(case, **options) -> Result:
 
     # ---- exact constraints: perfect directions, supports, rigid modes --------------
     t0 = time.perf_counter()
-    ties, da, db, dirs = perfect_constraints(ielems)
     meas = case.measurements.get("stiffness")
     cand = np.arange(ndof)
     if meas and meas.get("support"):
@@ -241,10 +245,9 @@ def solve(case, **options) -> Result:
         if pins:
             warnings.append(f"pinned {len(pins)} DOF(s) against free rigid motion (loads balanced)")
     scale = max(np.abs(presc_v).max(initial=0.0), 1e-300)
-    elim = build_elimination(ndof, ties=ties, directional_a=da, directional_b=db, directions=dirs,
-                             prescribed=np.concatenate([presc_d, pins]).astype(np.int64),
+    elim = build_elimination(ndof, pairs, prescribed=np.concatenate([presc_d, pins]).astype(np.int64),
                              values=np.concatenate([presc_v, np.zeros(len(pins))]), scale=scale)
-    Kr, fr = elim.reduce(K, f)
+    Kr, fr = elim.reduce(K_bulk, f, jumps, K_jump)
     timings["constraints"] = time.perf_counter() - t0
 
     # ---- solve ---------------------------------------------------------------------
@@ -257,29 +260,35 @@ def solve(case, **options) -> Result:
             lu = spla.splu(Kr.tocsc(), permc_spec="MMD_AT_PLUS_A",
                            options={"SymmetricMode": True, "DiagPivotThresh": 0.01})
             q = lu.solve(fr)
+            q = q + lu.solve(fr - Kr @ q)           # one step of iterative refinement
         except RuntimeError as e:  # SuperLU: exactly singular
             raise SolverError(f"the stiffness matrix is singular ({e}): a body or part of it can move "
                               "freely; add supports or give debonded interfaces some stiffness") from None
-    u = elim.expand(np.atleast_1d(q))
-    res = np.linalg.norm(Kr @ q - fr) / max(np.linalg.norm(fr), 1e-300) if Kr.shape[0] else 0.0
-    if not np.all(np.isfinite(u)) or res > 1e-6:
-        raise SolverError(f"linear solve failed (relative residual {res:.2e}): the structure is probably "
-                          "under-constrained (free rigid motion of a body, or a debonded part); "
+    res = _backward_error(Kr, q, fr)
+    if not np.all(np.isfinite(q)) or res > 1e-8:
+        raise SolverError(f"linear solve failed (componentwise backward error {res:.2e}): the structure is "
+                          "probably under-constrained (free rigid motion of a body, or a debonded part); "
                           "add supports or non-zero interface stiffness")
+    u = elim.expand(np.atleast_1d(q))
+    G, h = elim.jump_map(jumps)
+    J = G @ q + h                   # nodal jumps (normal, tangential) u_b - u_a, without cancellation
     timings["solve"] = time.perf_counter() - t0
 
     # ---- quantities ----------------------------------------------------------------
     t0 = time.perf_counter()
     U_bulk = 0.5 * ring * float(u @ (K_bulk @ u))
-    U_int = 0.5 * ring * float(u @ (K_int @ u))
+    U_int = 0.5 * ring * float(J @ (K_jump @ J))
     quantities = {"strain_energy": U_bulk, "interface_energy": U_int, "total_energy": U_bulk + U_int,
                   "external_work": 0.5 * ring * float(f @ u)}
     if meas:
-        quantities.update(_stiffness(case, meas, mesh, element, basis, dof_body, bm.element_body, K, u,
+        f_int = K_bulk @ u + jumps.T @ (K_jump @ J)
+        quantities.update(_stiffness(case, meas, mesh, element, basis, dof_body, bm.element_body, f_int, u,
                                      thickness, axisym, ring, opts["intorder"], tol, U_bulk + U_int))
     profiles = {}
     for el in ielems:
-        prof = interface_profile(el, u, opts["jump_points"])
+        idx = pair_index(pairs, el.node_b)
+        Jxy = J.reshape(-1, 2)[:, :1] * pairs.n + J.reshape(-1, 2)[:, 1:] * pairs.t   # back to x, y
+        prof = interface_profile(el, Jxy[idx], opts["jump_points"])
         profiles[f"interface_jump[{el.a}|{el.b}]"] = prof
         if "interface_jump" not in profiles:
             profiles["interface_jump"] = prof
@@ -301,9 +310,9 @@ def solve(case, **options) -> Result:
     diagnostics = {
         "dofs": int(ndof), "free_dofs": int(Kr.shape[0]), "elements": int(mesh.t.shape[1]),
         "interface_elements": {f"{el.a}|{el.b}": int(len(el.xy)) for el in ielems},
-        "order": order, "element_size": opts["element_size"], "tied_dof_pairs": int(len(ties)),
-        "one_direction_constraints": int(len(da)), "prescribed_dofs": int(len(presc_d)),
-        "pinned_dofs": [int(d) for d in pins], "relative_residual": float(res),
+        "order": order, "element_size": opts["element_size"], "interface_node_pairs": int(len(pairs.a)),
+        "perfect_normal_nodes": int(pairs.perfect_n.sum()), "perfect_tangential_nodes": int(pairs.perfect_t.sum()), "prescribed_dofs": int(len(presc_d)),
+        "pinned_dofs": [int(d) for d in pins], "backward_error": float(res),
         "stress_components": ["rr", "zz", "tt", "rz"] if axisym else ["xx", "yy", "xy"],
         "warnings": warnings,
     }
@@ -317,7 +326,19 @@ def _with_pairs(case, extra):
     return c
 
 
-def _stiffness(case, meas, mesh, element, basis, dof_body, element_body, K, u, thickness, axisym, ring,
+def _backward_error(A, x, b) -> float:
+    """Componentwise backward error max_i |b - A x|_i / (|A| |x| + |b|)_i (Oettli-Prager):
+    independent of the scaling of rows, so stiff interface unknowns do not distort it."""
+    if A.shape[0] == 0:
+        return 0.0
+    r = np.abs(b - A @ x)
+    denom = abs(A) @ np.abs(x) + np.abs(b)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(denom > 0, r / denom, np.where(r > 0, np.inf, 0.0))
+    return float(ratio.max())
+
+
+def _stiffness(case, meas, mesh, element, basis, dof_body, element_body, f_int, u, thickness, axisym, ring,
                intorder, tol, U_total):
     """002 Eq 43 (displacement method) and Eq 45 (energy method)."""
     unit = case.stiffness_direction()
@@ -331,7 +352,7 @@ def _stiffness(case, meas, mesh, element, basis, dof_body, element_body, K, u, t
     if not load:
         raise CaseError("measurements.stiffness.load must list at least one [body, side]")
     load_dofs = np.unique(np.concatenate([_side_dofs(case, basis, dof_body, b, s, tol) for b, s in load]))
-    P = ring * float((K @ u)[load_dofs] @ unit[load_dofs % 2])
+    P = ring * float(f_int[load_dofs] @ unit[load_dofs % 2])
     u_load = average(load)
     u_sup = average(meas["support"]) if meas.get("support") else 0.0
     delta = u_load - u_sup
