@@ -29,8 +29,8 @@ def _elasticity_form(C: np.ndarray, thickness: float, axisymmetric: bool) -> Bil
 
     @BilinearForm
     def form(u, v, w):
-        eu = strain_voigt(u.grad, u.value, w.x, axisymmetric)
-        ev = strain_voigt(v.grad, v.value, w.x, axisymmetric)
+        eu = strain_voigt(u.grad, u, w.x, axisymmetric)
+        ev = strain_voigt(v.grad, v, w.x, axisymmetric)
         out = 0.0
         for i, j, c in nz:          # at most 16 constant moduli, each over all elements at once
             out = out + c * eu[j] * ev[i]
@@ -60,7 +60,7 @@ def facet_load(mesh, element, facets: np.ndarray, traction: np.ndarray, thicknes
 
     @LinearForm
     def load(v, w):
-        return (tx * v.value[0] + ty * v.value[1]) * (w.x[0] if axisymmetric else thickness)
+        return (tx * v[0] + ty * v[1]) * (w.x[0] if axisymmetric else thickness)
 
     return load.assemble(fb)
 

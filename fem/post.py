@@ -25,7 +25,7 @@ def vertex_stress(mesh, element, u: np.ndarray, element_body: np.ndarray, moduli
         corners = centre + (corners - centre) * (1.0 - 1e-6)
     basis = CellBasis(mesh, element, quadrature=(corners, np.full(nv, 1.0 / nv)))
     field = basis.interpolate(u)
-    eps = np.stack(strain_voigt(field.grad, field.value, basis.global_coordinates().value, axisymmetric))
+    eps = np.stack(strain_voigt(field.grad, np.asarray(field), np.asarray(basis.global_coordinates()), axisymmetric))
     C = np.stack(moduli)[element_body]                                    # (ne, nv, nv)
     sig = np.einsum("eij,jeq->eqi", C, eps)                               # (ne, corners, nv)
     nvert = mesh.p.shape[1]
@@ -39,12 +39,15 @@ def vertex_stress(mesh, element, u: np.ndarray, element_body: np.ndarray, moduli
 def interface_profile(el, nodal_jumps: np.ndarray, points_per_element: int = 3) -> dict[str, np.ndarray]:
     """Jumps [u_n], [u_t] (u_b - u_a, normal from a to b, 002 Eq 6 and 9) and the finite
     tractions Dn [u_n], Dt [u_t] along one interface, at Gauss points of its elements,
-    ordered by the arc length ``s`` from one end; ``nodal_jumps`` (m, n, 2) are the jumps
+    ordered by the arc length ``s`` from one end, with Gauss weights ``weight`` (mm) so that
+    sum(weight * g) integrates g along the interface exactly for polynomial jumps;
+    ``nodal_jumps`` (m, n, 2) are the jumps
     at the elements' side-1 nodes (global x, y components)."""
-    xi, _ = np.polynomial.legendre.leggauss(points_per_element)
+    xi, wq = np.polynomial.legendre.leggauss(points_per_element)
     N, _ = shape_functions(el.xy.shape[1], xi)
     jump = np.einsum("qi,mia->mqa", N, nodal_jumps)
-    pos, n1, t1, _ = frame(el.xy, xi)
+    pos, n1, t1, dl = frame(el.xy, xi)
+    ds = (wq[None, :] * dl).ravel()                     # arc-length quadrature weight of each point
     jn = np.einsum("mqa,mqa->mq", jump, n1).ravel()
     jt = np.einsum("mqa,mqa->mq", jump, t1).ravel()
     pos = pos.reshape(-1, 2)
@@ -63,7 +66,7 @@ def interface_profile(el, nodal_jumps: np.ndarray, points_per_element: int = 3) 
     sign = np.sign(np.einsum("qa,a->q", t1.reshape(-1, 2), chord))   # tangent along increasing s
     return {"s": s[order], "x": pos[order, 0], "y": pos[order, 1], "jump_n": jn[order],
             "jump_t": (jt * sign)[order], "traction_n": Tn[order], "traction_t": (Tt * sign)[order],
-            "Dn": Dn[order], "Dt": Dt[order]}
+            "Dn": Dn[order], "Dt": Dt[order], "weight": ds[order]}
 
 
 def _affine_inverse(mesh, x: np.ndarray, cells: np.ndarray) -> np.ndarray:
