@@ -31,6 +31,31 @@ def _support(x, y, origin, cell, nn, lp, kind, wx, dwx, wy, dwy):
     return i0, j0, nax, nay
 
 
+@njit(cache=True, inline="always", fastmath=True)
+def _scatter_traction(ex, ey, f, fx, fy, origin, cell, nn, lp, mass, force, wx, dwx, wy, dwy):
+    """Add a particle traction force acting at its edge point (ex, ey) to field f.
+
+    Linear grid weights at the edge point, restricted to the nodes where field f has
+    mass and renormalised: once the edge has moved past a node line the node beyond
+    it is massless and a force there would be lost.
+    """
+    i0, j0, nax, nay = _support(ex, ey, origin, cell, nn, lp, 0, wx, dwx, wy, dwy)
+    tot = 0.0
+    for b in range(nay):
+        for a in range(nax):
+            if mass[(j0 + b) * nn[0] + i0 + a, f] > 0.0:
+                tot += wx[a] * wy[b]
+    if tot <= 0.0:
+        return
+    for b in range(nay):
+        for a in range(nax):
+            n = (j0 + b) * nn[0] + i0 + a
+            if mass[n, f] > 0.0:
+                s = wx[a] * wy[b] / tot
+                force[n, f, 0] += s * fx
+                force[n, f, 1] += s * fy
+
+
 @njit(cache=True, fastmath=True)
 def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
            origin, cell, nn, lp, kind, multi, internal,
@@ -97,15 +122,11 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
                     disp[n, f, 1] += s * m * (x[p, 1] - x0[p, 1])
                     pos[n, f, 0] += s * m * x[p, 0]
                     pos[n, f, 1] += s * m * x[p, 1]
-        if fx != 0.0 or fy != 0.0:
-            i0, j0, nax, nay = _support(x[p, 0] + foff[p, 0], x[p, 1] + foff[p, 1], origin, cell,
-                                        nn, lp, 0, wx, dwx, wy, dwy)
-            for b in range(nay):
-                for a in range(nax):
-                    n = (j0 + b) * nx + i0 + a
-                    s = wx[a] * wy[b]
-                    force[n, f, 0] += s * fx
-                    force[n, f, 1] += s * fy
+    for p in range(x.shape[0]):
+        if fext[p, 0] != 0.0 or fext[p, 1] != 0.0:
+            _scatter_traction(x[p, 0] + foff[p, 0], x[p, 1] + foff[p, 1], field[p],
+                              fext[p, 0] * load_scale, fext[p, 1] * load_scale,
+                              origin, cell, nn, lp, mass, force, wx, dwx, wy, dwy)
     if multi:
         for n in range(mass.shape[0]):
             for f in range(mass.shape[1]):

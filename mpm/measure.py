@@ -11,6 +11,8 @@ from .particles import side_particles
 def stiffness_quantities(case, particles, loads: list[dict], stored_energy: float, result) -> dict:
     """``stiffness`` k = P / (<u_load> - <u_support>) (002 Eq 43) and ``stiffness_energy``
     k = P^2 / (2U) (Eq 45, U = strain + interface energy) for ``case.measurements['stiffness']``.
+    ``direction`` is an axis name or a vector (rotated specimens); displacements and
+    forces are projected on it.
 
     <u> are averages over the particles in the first row along each listed side,
     extrapolated from the particle centre to the side itself with the particle strain
@@ -23,12 +25,8 @@ def stiffness_quantities(case, particles, loads: list[dict], stored_energy: floa
     if not spec:
         return {}
     D = particles.x.shape[1]
-    names = "xyz"[:D]
-    direction = spec.get("direction", "y")
-    if direction not in names:
-        raise CaseError(f"measurements.stiffness.direction must be one of {list(names)}, got {direction!r}")
-    d = names.index(direction)
-    u = particles.x - particles.x0
+    e = _direction(spec.get("direction", "y"), D)
+    u = (particles.x - particles.x0) @ e
 
     def mean_u(sides, key):
         """(<u_d> of the side particles, <u_d> extrapolated to the side itself)."""
@@ -39,14 +37,14 @@ def stiffness_quantities(case, particles, loads: list[dict], stored_energy: floa
             idx = side_particles(case, particles, b, s)[0]
             normal = np.asarray(case.body(b).shape.edge_normal(s), float)
             off = normal * (0.5 * float(np.abs(normal) @ particles.spacing))
-            rows.append(u[idx, d])
-            edge.append(u[idx, d] + _strain_tensor(particles.strain[idx])[:, d, :] @ off)
+            rows.append(u[idx])
+            edge.append(u[idx] + (_strain_tensor(particles.strain[idx]) @ off) @ e)
         return float(np.mean(np.concatenate(rows))), float(np.mean(np.concatenate(edge)))
 
     u_load_p, u_load = mean_u(spec.get("load", []), "load")
     u_sup_p, u_sup = mean_u(spec.get("support", []), "support")
     load_sides = {(b, s) for b, s in spec.get("load", [])}
-    P = float(sum(ld["force"][d] for ld in loads if (ld["body"], ld["side"]) in load_sides))
+    P = float(sum(ld["force"] @ e for ld in loads if (ld["body"], ld["side"]) in load_sides))
     out = {"load_displacement": u_load, "support_displacement": u_sup, "load": P}
     if P == 0.0:
         result.warn("mpm: no traction acts on the stiffness load sides; stiffness not computed")
@@ -80,6 +78,20 @@ def interface_profile(grid, node_out: np.ndarray) -> dict | None:
             "jump_n": node_out[r, OUT_JUMP_N], "jump_t": node_out[r, OUT_JUMP_T],
             "traction_n": node_out[r, OUT_TRACTION_N], "traction_t": node_out[r, OUT_TRACTION_T],
             "area": node_out[r, OUT_AREA], "energy": node_out[r, OUT_ENERGY]}
+
+
+def _direction(direction, D: int) -> np.ndarray:
+    """Unit vector of a measurement direction given as 'x'/'y'/'z' or as a vector."""
+    names = "xyz"[:D]
+    if isinstance(direction, str):
+        if direction not in names:
+            raise CaseError(f"measurements.stiffness.direction must be one of {list(names)} "
+                            f"or a vector, got {direction!r}")
+        return np.eye(D)[names.index(direction)]
+    v = np.asarray(direction, float).ravel()
+    if v.size != D or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0:
+        raise CaseError(f"measurements.stiffness.direction must be a nonzero {D}-vector, got {direction!r}")
+    return v / np.linalg.norm(v)
 
 
 def _strain_tensor(voigt: np.ndarray) -> np.ndarray:

@@ -23,7 +23,7 @@ DEFAULTS: dict = {
     "update": "usl",         # usl | usf
     "ramp_time": None,       # s; default: the traction ramp_time, else one estimated period T1
     "max_time": None,        # s; default ramp + 40 T1
-    "tol": 1e-7,             # stop when kinetic / (strain + interface) energy < tol over T1/2 after the ramp
+    "tol": 1e-6,             # stop when kinetic / (strain + interface) energy < tol over T1/2 after the ramp
     "padding": 3,            # empty cells around the bodies
     "progress": None,        # None = auto (runs longer than ~5 s), True / False
     "vtk_dir": None,         # write a VTU series + .pvd there

@@ -218,12 +218,12 @@ class _Runner:
         show = m.opts["progress"] if m.opts["progress"] is not None else est_time > 5.0
         bar = ProgressBar(f"mpm {m.case.name}", enabled=bool(show))
         vtk_every = max(1, total_steps // m.opts["vtk_frames"]) if m.opts["vtk_dir"] else 0
+        next_frame = vtk_every if vtk_every else total_steps + 1
         if vtk_every:
-            interval = min(interval, vtk_every)
             self._frame()
         cum_work = cum_diss = 0.0
         while self.steps < total_steps:
-            n = min(interval, total_steps - self.steps)
+            n = min(interval, total_steps - self.steps, next_frame - self.steps)
             h = self._advance(n)
             self.hist_chunks.append(h)
             cum_work += h[:, 3].sum() + h[:, 5].sum()
@@ -236,8 +236,9 @@ class _Runner:
                 raise SolverError(self._diverged(
                     f"kinetic + stored energy {h[:, 1].max() + U + ui:.3g} exceeds "
                     f"{m.opts['blowup']:g} x the work done {cum_work:.3g}"))
-            if vtk_every and (self.steps % vtk_every == 0 or self.steps >= total_steps):
+            if self.steps >= next_frame:
                 self._frame()
+                next_frame += vtk_every
             bar.update(self.steps / total_steps,
                        f"t={self.t:.3g}s KE/U={h[-1, 7] / max(U + ui, 1e-300):.2e}")
             if self.t > m.ramp_time and self._settled(window):
