@@ -105,3 +105,19 @@ def test_imperfect_normal_interface_in_uniaxial_tension(normal):
     # it by the jump (0.8 % of dx here) moves the fields' particles apart and lowers
     # min(Omega_a, Omega_b), so the summed area comes out ~1 % low
     assert area.sum() == pytest.approx(W * T, rel=2e-2)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("Dt, rel", [(1.0, 5e-3), (10.0, 5e-3)])
+def test_double_lap_shear_stiffness_matches_shear_lag(Dt, rel):
+    """000 Fig 5-7 / 002 Fig 5: DLS with an imperfect tangential interface (Dn = inf,
+    momentum-corrected; Dt by 000 Eq 17-27) against the shear-lag model (002 Eq 40-42,
+    Appendix A). Measured at cell 0.2 mm: 0.1 % (Dt = 1) and 0.01 % (Dt = 10);
+    about 2 minutes each on one core."""
+    from cases.library import dls
+    from interfaces.analytic.solve import solve as analytic
+    case = dls(Dt=Dt, Dn=math.inf)
+    k_ref = analytic(case).quantities["stiffness"]
+    r = mpm.solve(case, cell=0.2, progress=False)
+    assert r.quantities["stiffness"] == pytest.approx(k_ref, rel=rel)
+    assert r.quantities["stiffness_energy"] == pytest.approx(k_ref, rel=rel)
