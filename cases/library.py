@@ -107,7 +107,8 @@ def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: flo
                         "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
                                 "normal_vector": [float(v) for v in _rotate([[1.0, 0.0]], angle)[0]]}},
         analytic={"model": "dls_shear_lag", "t1": t, "t2": t, "E1": 10000.0, "E2": 10000.0, "G1": 500.0,
-                  "G2": 500.0, "l": l, "L": L, "W": W, "Dt": Dt},
+                  "G2": 500.0, "l": l, "L": L, "W": W, "Dt": Dt, "P": P,
+                  "origin": [float(v) for v in _rotate([[t, L]], angle)[0] + shift], "axis": [float(v) for v in axis]},
         reference="analytic",
         lines={"axis": [list(map(float, y_line[0])), list(map(float, y_line[1]))]},
     )
@@ -187,7 +188,8 @@ def dcb(Dn: float = math.inf, a: float = 25.0, length: float = 50.0, h: float = 
         discretization={"fem": {"element_size": fem_h, "order": 2},
                         "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
                                 "normal_vector": [0.0, 1.0]}},
-        analytic={"model": "dcb_beam_foundation", "a": a, "h": h, "W": W, "E_xx": 10000.0, "Dn": Dn, "kb": kb},
+        analytic={"model": "dcb_beam_foundation", "a": a, "h": h, "W": W, "E_xx": 10000.0, "Dn": Dn, "kb": kb,
+                  "P": P, "origin": [a, h], "axis": [1.0, 0.0], "x_max": length - a},
         reference="analytic",
         lines={"upper_arm": [[0.0, 1.5 * h], [length, 1.5 * h]]},
     )

@@ -49,7 +49,7 @@ def shared_quantities(comparison) -> list[str]:
 
 def profile_panels(comparison) -> list[tuple[str, str]]:
     """(profile, component) pairs to plot: the case's lines and the interface jump, for
-    displacement and jump components that are not identically zero."""
+    displacement and jump components that vary along the line (not a rigid shift)."""
     wanted = list(comparison.case.lines) + ["interface_jump"]
     panels = []
     for pname in wanted:
@@ -64,13 +64,25 @@ def profile_panels(comparison) -> list[tuple[str, str]]:
                 if v.shape != np.shape(prof["s"]):
                     continue
                 present = True
-                peak = max(peak, float(np.nanmax(np.abs(v))) if v.size else 0.0)
+                peak = max(peak, float(np.nanmax(v) - np.nanmin(v)) if np.isfinite(v).any() else 0.0)
                 for k2 in PROFILE_KEYS:
                     if k2 in prof and np.shape(prof[k2]) == np.shape(prof["s"]):
                         scale = max(scale, float(np.nanmax(np.abs(np.asarray(prof[k2], dtype=float)))))
-            if present and peak > 1e-6 * scale and peak > 0:
+            if present and peak > 1e-3 * scale and peak > 0:  # skip flat (rigid shift or noise) curves
                 panels.append((pname, key))
     return panels
+
+
+def _abscissa(comparison, pname: str) -> str:
+    """Arc length ``s`` along a case line; for the interface jump the coordinate (x or y)
+    that varies most, since methods may start their arc length at different points
+    (e.g. the DCB crack mouth for FEM, the crack tip for the beam model)."""
+    profs = [r.profiles[pname] for r in comparison.results.values() if pname in r.profiles]
+    if pname != "interface_jump" or not all("x" in p and "y" in p for p in profs):
+        return "s"
+    span = {k: max(float(np.ptp(np.asarray(p[k], dtype=float))) if len(p[k]) else 0.0 for p in profs)
+            for k in ("x", "y")}
+    return max(span, key=span.get)
 
 
 def plot_comparison(comparison, path) -> Path:
@@ -104,16 +116,17 @@ def plot_comparison(comparison, path) -> Path:
         if finite:
             ax.set_ylim(0, 1.25 * max(finite) if max(finite) > 0 else None)
     for ax, (pname, key) in zip(axes[len(quantities):], profile_panels_):
+        absc = _abscissa(comparison, pname)
         for m, r in comparison.results.items():
             prof = r.profiles.get(pname)
             if prof is None or key not in prof:
                 continue
             st = _style(m)
-            s, v = np.asarray(prof["s"], dtype=float), np.asarray(prof[key], dtype=float)
+            s, v = np.asarray(prof[absc], dtype=float), np.asarray(prof[key], dtype=float)
             order = np.argsort(s)
             ax.plot(s[order], v[order], color=st["color"], ls=st["ls"], lw=st["lw"], label=m,
                     marker=st["marker"] if len(s) < 40 else None, ms=3)
-        ax.set_xlabel(f"distance along {pname} (mm)")
+        ax.set_xlabel(f"distance along {pname} (mm)" if absc == "s" else f"{absc} (mm)")
         ax.set_ylabel(LABELS.get(key, key))
         ax.set_title(f"{pname}: {key}", fontsize=10)
         ax.legend(fontsize=7)
