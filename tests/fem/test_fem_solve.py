@@ -240,3 +240,43 @@ def test_bad_input_is_rejected_with_clear_messages():
                 bodies=[Body("c", Circle(0, 0, 1.0), "m")])
     with pytest.raises(CaseError, match="rectangles and polygons"):
         fem.solve(disc, h=0.3)
+
+
+@pytest.mark.parametrize("interface", ["vertical", "horizontal", "diagonal"])
+@pytest.mark.parametrize("load_case", [1, 2, 3])
+def test_uniform_deformation_is_exact_on_quads_and_triangles(interface, load_case):
+    """003 bimaterial square with one material and u = H X on all four sides (body '*'):
+    the exact field u = H X is reproduced (quads; triangles for the 45-degree interface),
+    U = 1/2 eps : C : eps x area, and the perfect interface carries no jump."""
+    from cases.library import bimaterial_square
+    base = bimaterial_square(interface=interface, load_case=load_case)
+    m = IsotropicElastic(E=1000.0, nu=0.3)
+    H = np.array(base.boundary_conditions[0].value).reshape(2, 2)
+    bcs = [BoundaryCondition("deformation_gradient", "*", side, ("x", "y"), tuple(H.ravel()))
+           for side in ("xmin", "xmax", "ymin", "ymax")]
+    case = base.replace(materials={"A": m, "B": m}, boundary_conditions=bcs)
+    r = fem.solve(case, h=0.125)
+    assert r.cells["type"] == ("triangle" if interface == "diagonal" else "quad")
+    eps = 0.5 * (H + H.T)
+    ev = np.array([eps[0, 0], eps[1, 1], 2 * eps[0, 1]])
+    assert r.quantities["strain_energy"] == pytest.approx(0.5 * ev @ m.stiffness("plane_strain") @ ev, rel=1e-10)
+    x, u = r.fields["position"], r.fields["displacement"]
+    np.testing.assert_allclose(u, x @ H.T, atol=1e-13)
+    assert np.abs(r.profiles["interface_jump"]["jump_n"]).max() < 1e-14
+
+
+# ---------------------------------------------------------------- full-resolution validations
+@pytest.mark.slow
+def test_full_resolution_dls_and_dcb_validation():
+    """The cases' own FEM resolution (h = 0.1 mm): DLS over the Dt range of 002 Fig 5 and DCB
+    over Dn of 002 Fig 9, both stiffness methods."""
+    for Dt in DT_VALUES:
+        q = fem.solve(dls(Dt=Dt), fields=False).quantities
+        assert q["stiffness"] == pytest.approx(shear_lag(Dt), rel=5e-3)
+        assert q["stiffness_energy"] == pytest.approx(q["stiffness"], rel=1e-8)
+    kb = dcb_kb_from_stiffness(fem.solve(dcb(), fields=False).quantities["stiffness"], 25.0, 0.6, 10.0, 10000.0)
+    assert kb == pytest.approx(7808.0, rel=3e-2)
+    for Dn in (0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 1e3, 1e4, 1e12):
+        q = fem.solve(dcb(Dn=Dn), fields=False).quantities
+        assert q["stiffness"] == pytest.approx(dcb_stiffness(25.0, 0.6, 10.0, 10000.0, Dn, kb), rel=3e-2)
+        assert q["stiffness_energy"] == pytest.approx(q["stiffness"], rel=1e-6)
