@@ -106,17 +106,13 @@ class LinearInterface(InterfaceLaw):
         A stiffer interphase than the substrates gives negative D, allowed down to the
         rigid-interphase limit (E_i, G_i -> inf); non-positive interphase moduli are rejected.
         """
-        t_i = check_number("t_i", t_i, low=0, low_open=True)
-        E_i = check_number("E_i", E_i, low=0, low_open=True, allow_inf=True)
-        G_i = check_number("G_i", G_i, low=0, low_open=True, allow_inf=True)
-        E1, E2, G1, G2 = (check_number(n, v, low=0, low_open=True)
-                          for n, v in (("E1", E1), ("E2", E2), ("G1", G1), ("G2", G2)))
-        inv_n = t_i * (1 / E_i - 0.5 * (1 / E1 + 1 / E2))
-        inv_t = t_i * (1 / G_i - 0.5 * (1 / G1 + 1 / G2))
+        from .analytic.interphase import interphase_to_interface  # the one implementation of Eq 52
+
+        Dn, Dt = interphase_to_interface(t_i, E_i, G_i, E1, E2, G1, G2)
         obj = cls.__new__(cls)
         object.__setattr__(obj, "_allow_negative", True)
-        object.__setattr__(obj, "Dn", math.inf if inv_n == 0 else 1 / inv_n)
-        object.__setattr__(obj, "Dt", math.inf if inv_t == 0 else 1 / inv_t)
+        object.__setattr__(obj, "Dn", Dn)
+        object.__setattr__(obj, "Dt", Dt)
         return obj
 
 
