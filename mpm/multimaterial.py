@@ -295,8 +295,11 @@ def empty_lr_arrays(n_nodes: int, n_materials: int, dim: int) -> tuple[np.ndarra
     return np.zeros((0, n_materials, dim)), np.zeros((0, n_materials))
 
 
-def _thickness_array(thickness) -> np.ndarray:
+def _thickness_array(thickness, n: int) -> np.ndarray:
     t = np.ascontiguousarray(np.atleast_1d(np.asarray(thickness, dtype=np.float64)))
+    if t.ndim != 1 or t.size not in (1, n) or not np.all(t >= 0.0) or (t.size == 1 and t[0] <= 0.0):
+        raise ValueError(f"thickness must be one value > 0 or one value >= 0 per node ({n}) "
+                         f"(axisymmetric: node radius), got {t if t.size < 5 else t.shape}")
     return t
 
 
@@ -304,6 +307,28 @@ def _node_list(nodes, n: int) -> np.ndarray:
     if nodes is None:
         return np.arange(n, dtype=np.int64)
     return np.ascontiguousarray(nodes, dtype=np.int64)
+
+
+def _check_arrays(tables: MultimaterialTables, cell, **arrays) -> tuple[int, int, int]:
+    """Shapes and dtypes of the nodal arrays against the layout (mpm/LAYOUT.md)."""
+    mass = arrays["mass"]
+    if not (isinstance(mass, np.ndarray) and mass.ndim == 2):
+        raise ValueError("mass must be a float64 array of shape (N, M)")
+    n, m = mass.shape
+    if m != tables.n_materials:
+        raise ValueError(f"mass has {m} fields but the tables were built for {tables.n_materials} bodies")
+    d = int(np.asarray(cell).size)
+    if d not in (2, 3):
+        raise ValueError(f"cell must hold 2 or 3 sizes, got {np.asarray(cell)!r}")
+    expect = {"mass": (n, m), "volume": (n, m), "momentum": (n, m, d), "force": (n, m, d),
+              "volume_gradient": (n, m, d), "displacement": (n, m, d), "position": (n, m, d)}
+    for name, arr in arrays.items():
+        if not isinstance(arr, np.ndarray) or arr.shape != expect[name]:
+            got = getattr(arr, "shape", type(arr).__name__)
+            raise ValueError(f"{name} must have shape {expect[name]}, got {got}")
+        if arr.dtype != np.float64 or not arr.flags.c_contiguous:
+            raise ValueError(f"{name} must be a C-contiguous float64 array")
+    return n, m, d
 
 
 def _check_lr(tables: MultimaterialTables, lr, n, m, d):
@@ -337,12 +362,15 @@ def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: 
     node indices (e.g. the core's list of nodes with 2+ fields); default all nodes.
     Returns the number of nodes changed.
     """
-    n, m = mass.shape
-    d = momentum.shape[2]
+    n, m, d = _check_arrays(tables, cell, mass=mass, momentum=momentum, force=force,
+                            volume=volume, volume_gradient=volume_gradient,
+                            displacement=displacement, position=position)
+    if phase not in (0, 1):
+        raise ValueError(f"phase must be 0 (after extrapolation) or 1 (after the update), got {phase!r}")
     lr_normal, lr_sep = _check_lr(tables, lr, n, m, d)
     return _k.correct_momentum_kernel(
         int(phase), mass, momentum, force, volume, volume_gradient, displacement, position,
-        np.asarray(cell, dtype=np.float64), _thickness_array(thickness), tables.law_kind,
+        np.asarray(cell, dtype=np.float64), _thickness_array(thickness, n), tables.law_kind,
         tables.law_params, tables.settings, tables.rigid, tables.node_zone, tables.zone_pairs,
         tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt), _node_list(nodes, n))
 
@@ -370,8 +398,9 @@ def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndar
     normal, area, energy and status (columns OUT_* in mpm.multimaterial_constants).
     ``nodes`` (int64) restricts the work to those node indices (default all nodes).
     """
-    n, m = mass.shape
-    d = momentum.shape[2]
+    n, m, d = _check_arrays(tables, cell, mass=mass, momentum=momentum, force=force,
+                            volume=volume, volume_gradient=volume_gradient,
+                            displacement=displacement, position=position)
     lr_normal, lr_sep = _check_lr(tables, lr, n, m, d)
     if node_out is None:
         node_out = np.zeros((0, NODE_OUT_COLUMNS))
@@ -379,7 +408,7 @@ def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndar
         raise ValueError(f"node_out must have shape ({n}, {NODE_OUT_COLUMNS}), got {node_out.shape}")
     return _k.interface_forces_kernel(
         mass, momentum, volume, volume_gradient, displacement, position,
-        np.asarray(cell, dtype=np.float64), _thickness_array(thickness), tables.law_kind,
+        np.asarray(cell, dtype=np.float64), _thickness_array(thickness, n), tables.law_kind,
         tables.law_params, tables.settings, tables.rigid, tables.node_zone, tables.zone_pairs,
         tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt), force, node_out,
         _node_list(nodes, n))

@@ -556,3 +556,57 @@ def test_lr_without_arrays_is_rejected():
     s = nodal(1)
     with pytest.raises(CaseError, match="LR"):
         correct(0, s, tables)
+
+
+# ---------------------------------------------------------------- more paths
+
+
+def test_rigid_partner_interface_force_acts_on_the_deformable_field_only():
+    """000 Eq 28-31 with Eq 17: force on a only; the rigid field is untouched."""
+    case = make_case(2, [(0, 1, LinearInterface(20.0, 5.0))])
+    tables = mm.build_pair_tables(case, {"normal": "SN", "normal_vector": [0, 1],
+                                         "rigid_bodies": ["b1"], "force_limiting": False})
+    jump = np.array([0.003, 0.01])
+    s, cellv = interface_state(jump, None, omega=(0.5, 0.5), thickness=1.0)
+    U = interface(s, tables, thickness=1.0)
+    A = math.sqrt(2.0 * cellv * 0.5 * cellv)
+    np.testing.assert_allclose(s["force"][0, 0], [5.0 * 0.003 * A, 20.0 * 0.01 * A], rtol=1e-12)
+    np.testing.assert_array_equal(s["force"][0, 1], 0.0)
+    assert U == pytest.approx(0.5 * (20.0 * 0.01 ** 2 + 5.0 * 0.003 ** 2) * A, rel=1e-12)
+
+
+def test_phase1_contact_uses_the_end_of_step_separation():
+    """In phase 1 the separation is advanced by dt (v_b - v_a): a gap that the updated
+    velocities close within the step is treated as contact."""
+    n = np.array([1.0, 0.0])
+    tables = sn(StickContact(), n)
+    dt = 1e-3
+    for gap, expect in ((0.9e-3, 1), (1.1e-3, 0)):     # closing speed 1 mm/s x dt = 1e-3
+        s = two_field_contact_state([0.5, 0.0], [-0.5, 0.0], m_a=1.0, m_b=1.0, gap=gap)
+        assert correct(0, s, tables, dt) == 0          # phase 0: still apart
+        assert correct(1, s, tables, dt) == expect
+
+
+def test_per_node_thickness_sets_the_screening_volume():
+    """Axisymmetric use: thickness per node (node radius) scales the cell volume."""
+    n = np.array([1.0, 0.0])
+    tables = sn(LinearInterface(10.0, 10.0), n, edge_cutoff=0.75)
+    s, cellv = interface_state(np.array([0.01, 0.0]), n, omega=(0.5, 0.5), thickness=1.0)
+    s2 = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in s.items()}
+    assert interface(s, tables, thickness=np.array([1.0])) > 0.0         # Omega = cell
+    assert interface(s2, tables, thickness=np.array([2.0])) == 0.0       # Omega = cell/2
+
+
+def test_wrong_array_shapes_are_reported_by_name():
+    tables = mm.build_pair_tables(make_case(2, []), {})
+    s = nodal(3)
+    with pytest.raises(ValueError, match="volume_gradient"):
+        mm.correct_momentum(0, s["mass"], s["momentum"], s["force"], s["volume"],
+                            s["volume_gradient"][:, :, :1].copy(), s["displacement"], s["position"],
+                            s["cell"], tables, 1e-3)
+    with pytest.raises(ValueError, match="fields"):
+        mm.correct_momentum(0, s["mass"][:, :1].copy(), s["momentum"], s["force"], s["volume"],
+                            s["volume_gradient"], s["displacement"], s["position"], s["cell"],
+                            tables, 1e-3)
+    with pytest.raises(ValueError, match="phase"):
+        correct(2, s, tables)
