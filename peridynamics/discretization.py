@@ -166,7 +166,8 @@ def discretize(case, h: float, delta: float, overlap: float, grid: str = "vertex
         ia, ib = names.index(pair.a), names.index(pair.b)
         for this, other in ((ib, ia), (ia, ib)):
             sel = np.flatnonzero(ob == this)
-            other_pts = Xb[ob == other]
+            # points of the other body's closed region (points on the common boundary count)
+            other_pts = Xb[case.bodies[other].contains(Xb, tol)]
             if len(sel) == 0 or len(other_pts) == 0:
                 continue
             dn = cKDTree(other_pts).query(Xb[sel])[0] - 0.5 * h * math.sqrt(d)
