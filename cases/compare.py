@@ -13,7 +13,7 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from interfaces import Case, Result
+from interfaces import Case
 
 from .methods import resolve_methods, run
 

@@ -14,7 +14,7 @@ from interfaces import (Body, BoundaryCondition, Box, Case, CaseError, Interface
                         LinearInterface, Polygon, Rectangle, Sphere, TransverselyIsotropicElastic)
 from interfaces.errors import check_number
 from interfaces.laws import BilinearNormalInterface
-from interfaces.units import G_PER_CM3, MS, US
+from interfaces.units import G_PER_CM3, MS
 
 WOOD_DENSITY = 0.5 * G_PER_CM3
 """Wood strand density (not given in 000/002; irrelevant for their static answers)."""

@@ -17,7 +17,7 @@ import numpy as np
 from .errors import CaseError, check_number
 from .geometry import SIDES, Shape, shape_from_dict
 from .laws import InterfaceLaw, law_from_dict
-from .materials import ANALYSES, Material, check_analysis, material_from_dict
+from .materials import Material, check_analysis, material_from_dict
 
 try:  # Python >= 3.11
     import tomllib

@@ -55,3 +55,35 @@ def _range_text(low, high, low_open, high_open) -> str:
     if high is not None:
         return f"{'<' if high_open else '<='} {high:g}"
     return "a number"
+
+
+def build_tagged(registry: dict, d, where: str, convert_lists: bool = False, make=None):
+    """Build an object from a TOML table ``{"type": kind, field: value, ...}``.
+
+    ``registry`` maps ``type`` names to dataclasses. Errors are one-line
+    :class:`CaseError` messages naming ``where.field``: not a table, unknown type,
+    unknown or missing fields, invalid values. ``make(cls, kwargs)`` may replace the
+    plain ``cls(**kwargs)`` call.
+    """
+    from dataclasses import MISSING, fields
+
+    if not isinstance(d, dict):
+        raise CaseError(f"{where} must be a table, got {d!r}")
+    kind = d.get("type")
+    if kind not in registry:
+        raise CaseError(f"{where}.type must be one of {', '.join(registry)}, got {kind!r}")
+    cls = registry[kind]
+    kwargs = {k: (tuple(v) if convert_lists and isinstance(v, list) else v) for k, v in d.items() if k != "type"}
+    names = [f.name for f in fields(cls)]
+    extra = set(kwargs) - set(names)
+    if extra:
+        raise CaseError(f"{where}.{sorted(extra)[0]} is not a field of {kind} (fields: {', '.join(names) or 'none'})")
+    missing = [f.name for f in fields(cls) if f.name not in kwargs and f.default is MISSING and f.default_factory is MISSING]
+    if missing:
+        raise CaseError(f"{where}.{missing[0]} is missing ({kind} needs {', '.join(names)})")
+    try:
+        return make(cls, kwargs) if make is not None else cls(**kwargs)
+    except CaseError as e:
+        raise CaseError(f"{where}.{e}") from None
+    except TypeError as e:
+        raise CaseError(f"{where}: {e}") from None

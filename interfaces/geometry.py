@@ -14,7 +14,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from .errors import CaseError, check_number
+from .errors import CaseError, build_tagged, check_number
 
 SIDES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
 
@@ -311,21 +311,4 @@ class Sphere(Shape):
 
 def shape_from_dict(d: dict, where: str = "shape") -> Shape:
     """Build a shape from its TOML table; errors name ``where.field``."""
-    if not isinstance(d, dict):
-        raise CaseError(f"{where} must be a table, got {d!r}")
-    kind = d.get("type")
-    if kind not in _SHAPES:
-        raise CaseError(f"{where}.type must be one of {', '.join(_SHAPES)}, got {kind!r}")
-    cls = _SHAPES[kind]
-    kwargs = {k: v for k, v in d.items() if k != "type"}
-    allowed = set(cls.__dataclass_fields__)
-    extra = set(kwargs) - allowed
-    if extra:
-        raise CaseError(f"{where}.{sorted(extra)[0]} is not a field of {kind} (fields: {', '.join(sorted(allowed))})")
-    missing = [f.name for f in fields(cls) if f.name not in kwargs and f.default is f.default_factory]
-    try:
-        return cls(**kwargs)
-    except CaseError as e:
-        raise CaseError(f"{where}.{e}") from None
-    except TypeError:
-        raise CaseError(f"{where} ({kind}) needs the fields {', '.join(f.name for f in fields(cls))}; missing {missing}") from None
+    return build_tagged(_SHAPES, d, where)

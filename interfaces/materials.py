@@ -15,12 +15,12 @@ The wood strands of 002 Sec 3.1 and 000 Sec 3 are transversely isotropic:
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import dataclass, fields
 from typing import ClassVar
 
 import numpy as np
 
-from .errors import CaseError, check_number
+from .errors import CaseError, build_tagged, check_number
 
 ANALYSES = ("plane_stress", "plane_strain", "axisymmetric", "3d")
 _VOIGT = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
@@ -129,23 +129,7 @@ def _register(cls):
 
 def material_from_dict(d: dict, where: str = "material") -> Material:
     """Build a material from its TOML table; errors name ``where.field``."""
-    if not isinstance(d, dict):
-        raise CaseError(f"{where} must be a table, got {d!r}")
-    kind = d.get("type")
-    if kind not in _MATERIALS:
-        raise CaseError(f"{where}.type must be one of {', '.join(_MATERIALS)}, got {kind!r}")
-    cls = _MATERIALS[kind]
-    names = {f.name for f in fields(cls)}
-    extra = set(d) - names - {"type"}
-    if extra:
-        raise CaseError(f"{where}.{sorted(extra)[0]} is not a field of {kind} (fields: {', '.join(sorted(names))})")
-    kwargs = {k: (tuple(v) if isinstance(v, list) else v) for k, v in d.items() if k != "type"}
-    try:
-        return cls(**kwargs)
-    except CaseError as e:
-        raise CaseError(f"{where}.{e}") from None
-    except TypeError as e:
-        raise CaseError(f"{where}: {e}") from None
+    return build_tagged(_MATERIALS, d, where, convert_lists=True)
 
 
 @_register
