@@ -9,7 +9,8 @@ body containing their centroid, then every body gets its own copy of its nodes, 
 meshes are conforming along shared edges. Quadrilaterals by default; triangles (cells
 split along one diagonal) when a polygon has 45-degree edges (003 diagonal interface).
 Bodies whose boundaries do not follow the grid lines (circles, arbitrary polygons) are
-rejected by an exact area check rather than meshed with staircase boundaries.
+rejected (a body boundary crossing a cell is detected) rather than meshed with staircase
+boundaries.
 """
 from __future__ import annotations
 

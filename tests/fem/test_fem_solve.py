@@ -13,7 +13,7 @@ from interfaces.case import Body, BoundaryCondition, Case, InterfacePair
 from interfaces.errors import CaseError
 from interfaces.geometry import Circle, Rectangle
 from interfaces.laws import LinearInterface
-from interfaces.materials import IsotropicElastic, TransverselyIsotropicElastic
+from interfaces.materials import IsotropicElastic
 
 T, L_BOND, L_ARM, W = 0.6, 25.0, 5.0, 10.0          # 002 Sec 3.1 specimen
 E_YY, G_XY = 10000.0, 500.0

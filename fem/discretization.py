@@ -1,0 +1,98 @@
+"""The discretized case: scikit-fem mesh, vector element, basis and DOF bookkeeping.
+
+Quadrilaterals get ``ElementQuad2`` (9-node, default) or ``ElementQuad1`` (``order=1``);
+triangles (45-degree polygon edges) ``ElementTriP2`` / ``ElementTriP1``. DOFs follow
+scikit-fem's ``ElementVector`` numbering: every x-DOF is even and its y-DOF is the next
+one, which the interface code relies on (checked at construction).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from skfem import CellBasis, ElementQuad1, ElementQuad2, ElementTriP1, ElementTriP2, ElementVector, MeshQuad, MeshTri
+
+from interfaces.errors import CaseError
+
+from .mesh import BodyMesh, build_mesh
+
+
+@dataclass
+class Discretization:
+    """Everything the assembly and post-processing need about the mesh and the DOFs."""
+
+    case: object
+    body_mesh: BodyMesh
+    mesh: object
+    element: object
+    basis: CellBasis
+    dof_body: np.ndarray          # body index of every DOF
+    order: int
+    intorder: int
+    thickness: float              # out-of-plane thickness (1 per radian when axisymmetric)
+    axisymmetric: bool
+    ring: float                   # 2 pi for axisymmetric (whole ring), else 1
+    tol: float                    # geometric tolerance (mm)
+
+    @property
+    def ndof(self) -> int:
+        return self.basis.N
+
+    @property
+    def element_body(self) -> np.ndarray:
+        return self.body_mesh.element_body
+
+    def side_facets(self, body_name: str, side: str) -> np.ndarray:
+        """Boundary facets on a body's side (body ``"*"``: the bounding-box side)."""
+        mesh = self.mesh
+        bf = mesh.boundary_facets()
+        k = _body_index(self.case, body_name)
+        if k is not None:
+            bf = bf[self.element_body[mesh.f2t[0, bf]] == k]
+        v = mesh.facets[:, bf]
+        on = (self.case.side_points_mask(body_name, side, mesh.p[:, v[0]].T, self.tol)
+              & self.case.side_points_mask(body_name, side, mesh.p[:, v[1]].T, self.tol))
+        if not on.any():
+            raise CaseError(f"side {side!r} of body {body_name!r} has no mesh facets")
+        return bf[on]
+
+    def side_dofs(self, body_name: str, side: str) -> np.ndarray:
+        """DOFs (both components) located on a body's side."""
+        on = self.case.side_points_mask(body_name, side, self.basis.doflocs.T, self.tol)
+        k = _body_index(self.case, body_name)
+        if k is not None:
+            on &= self.dof_body == k
+        return np.flatnonzero(on)
+
+
+def _body_index(case, body_name: str):
+    return None if body_name == "*" else [b.name for b in case.bodies].index(case.body(body_name).name)
+
+
+def discretize(case, element_size, order: int, intorder: int, max_dofs: float) -> Discretization:
+    """Mesh the case (``fem.mesh``) and set up the scikit-fem basis."""
+    bm = build_mesh(case, element_size)
+    estimate = bm.p.shape[1] * (8 if order == 2 else 2)
+    if estimate > max_dofs:
+        raise CaseError(f"element_size = {element_size} gives about {estimate:.3g} DOFs, above max_dofs = "
+                        f"{max_dofs:.3g}: use a larger element_size (h) or raise max_dofs")
+    if bm.cell_type == "quad":
+        mesh = MeshQuad(bm.p, bm.t)
+        element = ElementVector(ElementQuad2() if order == 2 else ElementQuad1())
+    else:
+        mesh = MeshTri(bm.p, bm.t)
+        element = ElementVector(ElementTriP2() if order == 2 else ElementTriP1())
+    basis = CellBasis(mesh, element, intorder=intorder)
+    for dofs in (basis.nodal_dofs, basis.facet_dofs):
+        if dofs.size and not (np.all(dofs[0] % 2 == 0) and np.all(dofs[1] == dofs[0] + 1)):
+            raise RuntimeError("scikit-fem changed its ElementVector DOF numbering (x even, y = x + 1)")
+    dof_body = np.empty(basis.N, dtype=np.int64)
+    dof_body[basis.element_dofs] = bm.element_body[None, :]
+    axisym = case.analysis == "axisymmetric"
+    return Discretization(case=case, body_mesh=bm, mesh=mesh, element=element, basis=basis, dof_body=dof_body,
+                          order=order, intorder=intorder, thickness=1.0 if axisym else case.thickness,
+                          axisymmetric=axisym, ring=2.0 * math.pi if axisym else 1.0, tol=1e-9 * bm.size)
+
+
+__all__ = ["Discretization", "discretize"]
