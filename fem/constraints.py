@@ -114,7 +114,7 @@ def _core(ndof: int, ties=(), directional_a=(), directional_b=(), directions=(),
     dofs = rep[np.concatenate([A, B], axis=1)]                       # (k, 4)
     coef = np.concatenate([M, -M], axis=1)
     same = np.all(dofs[:, :2] == dofs[:, 2:], axis=1)                 # already tied: m.(0) = 0
-    if np.any(np.isin(dofs[:, :2], dofs[:, 2:]).any(axis=1) & ~same):
+    if np.any((dofs[:, :2, None] == dofs[:, None, 2:]).any(axis=(1, 2)) & ~same):
         raise CaseError("interfaces: a node pair with one perfect direction is partly tied by another "
                         "perfect interface; this junction is not supported by fem")
     dofs, coef = dofs[~same], coef[~same]
