@@ -280,3 +280,16 @@ def test_full_resolution_dls_and_dcb_validation():
         q = fem.solve(dcb(Dn=Dn), fields=False).quantities
         assert q["stiffness"] == pytest.approx(dcb_stiffness(25.0, 0.6, 10.0, 10000.0, Dn, kb), rel=3e-2)
         assert q["stiffness_energy"] == pytest.approx(q["stiffness"], rel=1e-6)
+
+
+def test_dls_interface_slip_profile_matches_shear_lag():
+    """The FEM slip along the first bond line (u_central - u_outer, 002 Fig 7 convention of the
+    shared profiles) against the shear-lag slip tau/Dt of 002 Eq A.8."""
+    from interfaces.analytic.registry import dls_profiles
+    case = dls(Dt=10.0)
+    prof = fem.solve(case, h=0.15, fields=False).profiles["interface_jump"]
+    ref = dls_profiles(**{k: v for k, v in case.analytic.items() if k != "model"})["interface_jump"]
+    np.testing.assert_allclose(prof["x"], ref["x"][0], atol=1e-12)            # bond line x = t
+    slip = np.interp(prof["s"], ref["s"], ref["jump_t"])
+    assert np.abs(prof["jump_t"] - slip).max() < 5e-3 * np.abs(slip).max()
+    np.testing.assert_allclose(prof["traction_t"], 10.0 * prof["jump_t"], rtol=1e-12)
