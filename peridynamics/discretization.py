@@ -133,7 +133,10 @@ def side_frame(case, bc) -> Frame:
     shape = case.body(bc.body).shape
     if not (hasattr(shape, "to_local") and hasattr(shape, "size")):
         raise CaseError(f"boundary_conditions: body {bc.body!r} needs a rectangle/box shape for named sides")
-    return Frame(shape.origin, shape._rotation(), shape.size)
+    origin = np.asarray(shape.origin, dtype=float)
+    # rows of R: local coordinates of the global unit vectors (local = (X - origin) @ R)
+    R = shape.to_local(origin + np.eye(d))
+    return Frame(origin, R, np.asarray(shape.size, dtype=float))
 
 
 def discretize(case, h: float, delta: float, overlap: float, grid: str = "vertex") -> Discretization:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
@@ -125,6 +126,19 @@ def boundary_vectors(disc: Discretization):
     return fixed, u_bar, f_ext
 
 
+def estimate_tuples(system: CPDSystem) -> dict:
+    """Upper bounds of the interaction tuples per evaluation: sum over central points of
+    n, C(n, 2) and C(n, 3) for materials with C1, C2, C3 (degenerate tuples included)."""
+    out = {"pairs": 0.0, "triples": 0.0, "quadruples": 0.0}
+    for b in system.blocks:
+        n = np.diff(b.nptr).astype(float)
+        out["pairs"] += float(n.sum()) if b.C[0] != 0 else 0.0
+        out["triples"] += float((n * (n - 1) / 2).sum()) if b.C[1] != 0 else 0.0
+        if system.dim == 3 and b.C[2] != 0:
+            out["quadruples"] += float((n * (n - 1) * (n - 2) / 6).sum())
+    return out
+
+
 def line_profiles(case, disc: Discretization, U: np.ndarray) -> dict:
     """Displacements along ``case.lines``: multilinear interpolation on the point grid.
 
@@ -191,6 +205,12 @@ def solve(case, **options) -> Result:
     system, used = build_system(case, disc, o["calibration"], o["constants"])
     timings["neighbours_pattern"] = time.perf_counter() - t0
     fixed, u_bar, f_ext = boundary_vectors(disc)
+    est = estimate_tuples(system)
+    if est["quadruples"] + est["triples"] > 3e8:
+        msg = (f"CPD: ~{est['triples']:.2g} triples and ~{est['quadruples']:.2g} quadruples per tangent "
+               f"evaluation (about {2e-7 * (est['triples'] + est['quadruples']):.0f} s each on one core); "
+               "reduce delta_factor, the body size or refine less")
+        warnings.warn(msg, RuntimeWarning, stacklevel=2)
     ls = o["load_steps"]
     nopt = NewtonOptions(load_steps=ls if isinstance(ls, int) else len(ls),
                          load_factors=ls if isinstance(ls, tuple) else (), tol=o["tol"],
