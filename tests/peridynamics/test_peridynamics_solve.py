@@ -258,3 +258,10 @@ def test_cuboid_3d_converges_quadratically(interface):
     assert abs(q["reaction_all_xmin_x"] + q["reaction_all_xmax_x"]) < 1e-8 * abs(q["reaction_all_xmax_x"])
     assert q["reaction_all_xmax_x"] > 0
     assert res.fields["position"].shape[1] == 3 and np.all(np.isfinite(res.fields["displacement"]))
+
+
+def test_non_convergence_raises_solver_error_with_advice():
+    from interfaces.errors import SolverError
+    case = _square(parameter_set=2, load_case=1, interface="vertical", strain_scale=1000.0)
+    with pytest.raises(SolverError, match="load_steps"):
+        peridynamics.solve(case, h=0.1, max_iter=1)
