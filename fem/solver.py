@@ -136,7 +136,8 @@ def solve(case, **options) -> Result:
     timings["constraints"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    q, backward_error = _solve_spd(Kr, fr)
+    negative_D = any(np.any(el.finite_Dn < 0) or np.any(el.finite_Dt < 0) for el in ielems)
+    q, backward_error, negative_pivots = _solve_symmetric(Kr, fr, allow_indefinite=negative_D)
     u = elim.expand(q)
     G, h = elim.jump_map(jumps)
     J = G @ q + h                   # nodal jumps (normal, tangential) u_b - u_a, without cancellation
@@ -147,6 +148,12 @@ def solve(case, **options) -> Result:
     U_int = 0.5 * disc.ring * float(J @ (K_jump @ J))
     quantities = {"strain_energy": U_bulk, "interface_energy": U_int, "total_energy": U_bulk + U_int,
                   "external_work": 0.5 * disc.ring * float(f @ u)}
+    if negative_D:
+        warnings.append(f"negative interface parameters (002 Eq 52 stiff interphase): saddle-point equilibrium "
+                        f"with {negative_pivots} negative pivots; meaningful only above the rigid-interphase limit")
+        if U_bulk + U_int <= 0:
+            warnings.append("total energy <= 0: the negative interface parameters exceed the stable limit, "
+                            "the result is not physical")
     per_volume = (case.measurements.get("interface_energy") or {}).get("per_volume")
     if per_volume:      # 000 Fig 5: interfacial energy per unit specimen volume
         quantities["interface_energy_per_volume"] = U_int / float(per_volume)
@@ -182,6 +189,7 @@ def solve(case, **options) -> Result:
         "interface_node_pairs": int(len(pairs.a)), "perfect_normal_nodes": int(pairs.perfect_n.sum()),
         "perfect_tangential_nodes": int(pairs.perfect_t.sum()), "prescribed_dofs": int(len(presc_d)),
         "pinned_dofs": [int(d) for d in pins], "backward_error": backward_error,
+        "negative_pivots": negative_pivots,
         "stress_components": ["rr", "zz", "tt", "rz"] if disc.axisymmetric else ["xx", "yy", "xy"],
         "warnings": warnings,
     }
@@ -209,25 +217,33 @@ def _interfaces(case, disc, warnings):
     return ielems, pairs, jumps, K_jump.tocsr()
 
 
-def _solve_spd(Kr: sp.csr_matrix, fr: np.ndarray) -> tuple[np.ndarray, float]:
+def _solve_symmetric(Kr: sp.csr_matrix, fr: np.ndarray, allow_indefinite: bool) -> tuple[np.ndarray, float, int]:
     """Sparse direct solve (SuperLU, symmetric mode, minimum degree on A^T + A: ~20x faster
-    than the default ordering here) with one step of iterative refinement."""
+    than the default ordering here) with one step of iterative refinement. Returns the
+    solution, the componentwise backward error and the number of negative pivots (-1 if
+    SuperLU pivoted off the diagonal). Negative interface parameters (002 Eq 52) make the
+    equilibrium a saddle point (``allow_indefinite``)."""
     if Kr.shape[0] == 0:
-        return np.zeros(0), 0.0
+        return np.zeros(0), 0.0, 0
     try:
         lu = spla.splu(Kr.tocsc(), permc_spec="MMD_AT_PLUS_A",
                        options={"SymmetricMode": True, "DiagPivotThresh": 0.01})
-        q = lu.solve(fr)
-        q = q + lu.solve(fr - Kr @ q)
     except RuntimeError as e:  # SuperLU: exactly singular
         raise SolverError(f"the stiffness matrix is singular ({e}): a body or part of it can move "
                           "freely; add supports or give debonded interfaces some stiffness") from None
+    # with symmetric pivoting the pivots carry the inertia of Kr (Sylvester's law)
+    negative_pivots = int(np.sum(lu.U.diagonal() < 0)) if np.all(lu.perm_r == lu.perm_c) else -1
+    if negative_pivots > 0 and not allow_indefinite:
+        raise SolverError(f"the stiffness matrix has {negative_pivots} negative pivots although all interface "
+                          "parameters are >= 0: check the material constants (positive definite moduli)")
+    q = lu.solve(fr)
+    q = q + lu.solve(fr - Kr @ q)
     res = _backward_error(Kr, q, fr)
     if not np.all(np.isfinite(q)) or res > 1e-8:
         raise SolverError(f"linear solve failed (componentwise backward error {res:.2e}): the structure is "
                           "probably under-constrained (free rigid motion of a body, or a debonded part); "
                           "add supports or non-zero interface stiffness")
-    return q, res
+    return q, res, negative_pivots
 
 
 def _with_pairs(case, extra):

@@ -293,3 +293,37 @@ def test_dls_interface_slip_profile_matches_shear_lag():
     slip = np.interp(prof["s"], ref["s"], ref["jump_t"])
     assert np.abs(prof["jump_t"] - slip).max() < 5e-3 * np.abs(slip).max()
     np.testing.assert_allclose(prof["traction_t"], 10.0 * prof["jump_t"], rtol=1e-12)
+
+
+@pytest.mark.parametrize("E_i", [300.0, 20000.0])          # compliant (Dn > 0) and stiff (Dn < 0)
+def test_interphase_equivalent_interface_matches_a_resolved_interphase_layer(E_i):
+    """002 Eq 52 is exact for a stack loaded across the layers when nu = 0: the interface model
+    (substrates meeting at the mid-plane, Dn from Eq 52, negative for a stiff interphase)
+    and a mesh that resolves the interphase layer give the same stiffness and the same
+    closed form sigma = E_eff eps; a negative Dn makes the system a saddle point."""
+    E1, E2, t_i, w = 1000.0, 2500.0, 0.2, 2.0
+    mats = {"s1": IsotropicElastic(E=E1, nu=0.0), "s2": IsotropicElastic(E=E2, nu=0.0),
+            "i": IsotropicElastic(E=E_i, nu=0.0)}
+    law = LinearInterface.from_interphase(t_i, E_i, E_i / 2, E1, E2, E1 / 2, E2 / 2)
+    bcs = [BoundaryCondition("fixed", "*", "ymin", ("x", "y"), (0.0, 0.0)),
+           BoundaryCondition("traction", "*", "ymax", ("x", "y"), (0.0, 1.0))]
+    meas = {"stiffness": {"load": [["*", "ymax"]], "support": [["*", "ymin"]], "direction": "y"}}
+    interface_model = Case(name="eq52", analysis="plane_stress", materials=mats, boundary_conditions=bcs,
+                           bodies=[Body("A", Rectangle(0, 0, 1.0, w), "s1"), Body("B", Rectangle(0, w, 1.0, w), "s2")],
+                           interfaces=[InterfacePair("A", "B", law)], measurements=meas)
+    layered = Case(name="layer", analysis="plane_stress", materials=mats, boundary_conditions=bcs,
+                   bodies=[Body("A", Rectangle(0, 0, 1.0, w - t_i / 2), "s1"),
+                           Body("I", Rectangle(0, w - t_i / 2, 1.0, t_i), "i"),
+                           Body("B", Rectangle(0, w + t_i / 2, 1.0, w - t_i / 2), "s2")],
+                   measurements=meas)
+    k_closed = 1.0 / ((w - t_i / 2) / E1 + t_i / E_i + (w - t_i / 2) / E2)
+    r_if = fem.solve(interface_model, h=0.1)
+    r_layer = fem.solve(layered, h=0.1)
+    assert (law.Dn < 0) == (E_i > max(E1, E2))
+    assert r_layer.quantities["stiffness"] == pytest.approx(k_closed, rel=1e-10)
+    assert r_if.quantities["stiffness"] == pytest.approx(k_closed, rel=1e-10)
+    assert r_if.quantities["stiffness_energy"] == pytest.approx(k_closed, rel=1e-10)
+    if law.Dn < 0:
+        assert r_if.quantities["interface_energy"] < 0 and r_if.diagnostics["negative_pivots"] != 0
+        assert any("saddle" in w_ for w_ in r_if.diagnostics["warnings"])
+    assert any("bonded perfectly" in w_ for w_ in r_layer.diagnostics["warnings"])
