@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 from skfem import CellBasis
 
@@ -36,20 +37,25 @@ def vertex_stress(mesh, element, u: np.ndarray, element_body: np.ndarray, moduli
     return acc / np.maximum(cnt, 1.0)[:, None]
 
 
-def interface_profile(el, nodal_jumps: np.ndarray, points_per_element: int = 3) -> dict[str, np.ndarray]:
-    """Jumps [u_n], [u_t] (u_b - u_a, normal from a to b, 002 Eq 6 and 9) and the finite
-    tractions Dn [u_n], Dt [u_t] along one interface, at Gauss points of its elements,
-    ordered by the arc length ``s`` from one end, with Gauss weights ``weight`` (mm) so that
-    sum(weight * g) integrates g along the interface exactly for polynomial jumps;
-    ``nodal_jumps`` (m, n, 2) are the jumps
-    at the elements' side-1 nodes (global x, y components)."""
+def interface_profile(el, nodal_jumps: np.ndarray, nodal_tractions: np.ndarray,
+                      points_per_element: int = 3) -> dict[str, np.ndarray]:
+    """Jumps [u_n], [u_t] (u_b - u_a, normal from a to b, 002 Eq 6 and 9) and tractions
+    T_n, T_t along one interface, at Gauss points of its elements, ordered by the arc length
+    ``s`` from one end, with Gauss weights ``weight`` (mm) so that sum(weight * g) integrates
+    g along the interface (exactly for polynomial g). ``nodal_jumps`` / ``nodal_tractions``
+    (m, n, 2) are given at the elements' side-1 nodes in global x, y components. T_t and
+    [u_t] are signed along increasing s; T_n > 0 is tension."""
     xi, wq = np.polynomial.legendre.leggauss(points_per_element)
     N, _ = shape_functions(el.xy.shape[1], xi)
-    jump = np.einsum("qi,mia->mqa", N, nodal_jumps)
     pos, n1, t1, dl = frame(el.xy, xi)
     ds = (wq[None, :] * dl).ravel()                     # arc-length quadrature weight of each point
-    jn = np.einsum("mqa,mqa->mq", jump, n1).ravel()
-    jt = np.einsum("mqa,mqa->mq", jump, t1).ravel()
+
+    def components(nodal):
+        v = np.einsum("qi,mia->mqa", N, nodal)
+        return np.einsum("mqa,mqa->mq", v, n1).ravel(), np.einsum("mqa,mqa->mq", v, t1).ravel()
+
+    jn, jt = components(nodal_jumps)
+    Tn, Tt = components(nodal_tractions)
     pos = pos.reshape(-1, 2)
     ends = el.xy[:, [0, -1]].reshape(-1, 2)
     k = int(np.argmax(ends.max(axis=0) - ends.min(axis=0)))
@@ -58,15 +64,22 @@ def interface_profile(el, nodal_jumps: np.ndarray, points_per_element: int = 3) 
     chord /= np.linalg.norm(chord)
     s = (pos - start) @ chord
     order = np.argsort(s, kind="stable")
-    Dn = np.repeat(el.Dn, len(xi))
-    Dt = np.repeat(el.Dt, len(xi))
-    with np.errstate(invalid="ignore"):
-        Tn = np.where(np.isinf(Dn), np.nan, Dn * jn)
-        Tt = np.where(np.isinf(Dt), np.nan, Dt * jt)
     sign = np.sign(np.einsum("qa,a->q", t1.reshape(-1, 2), chord))   # tangent along increasing s
     return {"s": s[order], "x": pos[order, 0], "y": pos[order, 1], "jump_n": jn[order],
             "jump_t": (jt * sign)[order], "traction_n": Tn[order], "traction_t": (Tt * sign)[order],
-            "Dn": Dn[order], "Dt": Dt[order], "weight": ds[order]}
+            "Dn": np.repeat(el.Dn, len(xi))[order], "Dt": np.repeat(el.Dt, len(xi))[order],
+            "weight": ds[order]}
+
+
+def recover_tractions(K_bulk, u: np.ndarray, f: np.ndarray, pairs, M) -> np.ndarray:
+    """Interface tractions (T_n, T_t) at the node pairs, also where D = inf (constraint
+    reactions): the interface force on body b, F_b = f_b - (K u)_b, equals -int N_i T ds in
+    the weak form, so M T = -R^T (K u - f)_b with M = int N_i N_j ds (the jump-space matrix
+    of unit D). For a finite D this returns exactly D [u] (M^-1 D M J = D J)."""
+    r = (K_bulk @ u - f)
+    Fb = np.stack([r[pairs.b], r[pairs.b + 1]], axis=1)
+    rhs = -np.stack([np.einsum("ka,ka->k", Fb, pairs.n), np.einsum("ka,ka->k", Fb, pairs.t)], axis=1).ravel()
+    return spla.splu(M.tocsc()).solve(rhs).reshape(-1, 2)
 
 
 def _affine_inverse(mesh, x: np.ndarray, cells: np.ndarray) -> np.ndarray:
@@ -135,4 +148,4 @@ def line_profile(case, basis, u: np.ndarray, segment, npoints: int) -> dict[str,
     return {"s": s * length, "x": pts[:, 0], "y": pts[:, 1], "ux": disp[:, 0], "uy": disp[:, 1]}
 
 
-__all__ = ["vertex_stress", "interface_profile", "line_profile", "probe_matrix"]
+__all__ = ["vertex_stress", "interface_profile", "recover_tractions", "line_profile", "probe_matrix"]

@@ -43,7 +43,7 @@ from .discretization import discretize
 from .interface_mesh import check_one_direction_straight, find_interface_elements, node_pairs, pair_index
 from .measure import stiffness as measure_stiffness
 from .mesh import default_element_size
-from .post import interface_profile, line_profile, vertex_stress
+from .post import interface_profile, line_profile, recover_tractions, vertex_stress
 
 OPTIONS = {
     "order": "bulk element order: 2 (ElementQuad2 + 6-node interface, default) or 1",
@@ -115,7 +115,7 @@ def solve(case, **options) -> Result:
     moduli = [np.asarray(case.material_of(b.name).stiffness(case.analysis), dtype=float) for b in case.bodies]
     K_bulk = bulk_stiffness(disc.mesh, disc.element, disc.intorder, disc.element_body, moduli,
                             disc.thickness, disc.axisymmetric, disc.ndof)
-    ielems, pairs, jumps, K_jump = _interfaces(case, disc, warnings)
+    ielems, pairs, jumps, K_jump, M_jump = _interfaces(case, disc, warnings)
     f, presc_d, presc_v = apply_boundary_conditions(disc)
     timings["assembly"] = time.perf_counter() - t0
 
@@ -161,9 +161,12 @@ def solve(case, **options) -> Result:
         f_int = K_bulk @ u + jumps.T @ (K_jump @ J)
         quantities.update(measure_stiffness(disc, meas, f_int, u, U_bulk + U_int))
     profiles = {}
-    Jxy = J.reshape(-1, 2)[:, :1] * pairs.n + J.reshape(-1, 2)[:, 1:] * pairs.t   # back to x, y
+    to_xy = lambda v: v[:, :1] * pairs.n + v[:, 1:] * pairs.t          # noqa: E731 (n, t) -> (x, y)
+    Jxy = to_xy(J.reshape(-1, 2))
+    Txy = to_xy(recover_tractions(K_bulk, u, f, pairs, M_jump)) if len(pairs.a) else Jxy
     for el in ielems:
-        prof = interface_profile(el, Jxy[pair_index(pairs, el.node_b)], opts["jump_points"])
+        idx = pair_index(pairs, el.node_b)
+        prof = interface_profile(el, Jxy[idx], Txy[idx], opts["jump_points"])
         profiles[f"interface_jump[{el.a}|{el.b}]"] = prof
         profiles.setdefault("interface_jump", prof)
     for name, seg in case.lines.items():
@@ -209,12 +212,16 @@ def _interfaces(case, disc, warnings):
     check_one_direction_straight(pairs, ielems)
     jumps = jump_operator(pairs, disc.ndof)
     K_jump = sp.csr_matrix((2 * len(pairs.a), 2 * len(pairs.a)))
+    M_jump = sp.csr_matrix((2 * len(pairs.a), 2 * len(pairs.a)))      # int N_i N_j ds (unit D)
     for el in ielems:   # one vectorized block per interface pair
         idx = pair_index(pairs, el.node_b)
         frames = np.stack([pairs.n[idx], pairs.t[idx]], axis=-1)         # (m, n, 2, 2) columns n, t
         K_jump = K_jump + jump_stiffness(el.xy, idx, frames, el.finite_Dn, el.finite_Dt,
                                          disc.thickness, disc.axisymmetric, len(pairs.a))
-    return ielems, pairs, jumps, K_jump.tocsr()
+        one = np.ones(len(el.xy))
+        M_jump = M_jump + jump_stiffness(el.xy, idx, frames, one, one, disc.thickness, disc.axisymmetric,
+                                         len(pairs.a))
+    return ielems, pairs, jumps, K_jump.tocsr(), M_jump.tocsr()
 
 
 def _solve_symmetric(Kr: sp.csr_matrix, fr: np.ndarray, allow_indefinite: bool) -> tuple[np.ndarray, float, int]:

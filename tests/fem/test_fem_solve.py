@@ -292,7 +292,24 @@ def test_dls_interface_slip_profile_matches_shear_lag():
     np.testing.assert_allclose(prof["x"], ref["x"][0], atol=1e-12)            # bond line x = t
     slip = np.interp(prof["s"], ref["s"], ref["jump_t"])
     assert np.abs(prof["jump_t"] - slip).max() < 5e-3 * np.abs(slip).max()
-    np.testing.assert_allclose(prof["traction_t"], 10.0 * prof["jump_t"], rtol=1e-12)
+    # recovered tractions (weak-form interface force, fem.post.recover_tractions) are D [u]
+    np.testing.assert_allclose(prof["traction_t"], 10.0 * prof["jump_t"], rtol=0, atol=1e-9 * np.abs(slip).max())
+
+
+@pytest.mark.parametrize("Dt", [10.0, 1e12, math.inf])
+def test_interface_tractions_balance_the_load_also_for_perfect_interfaces(Dt):
+    """Each bond line carries P/2 in shear and no net normal force; for D = inf the traction is
+    the constraint reaction, and D = 1e12 gives the same traction field."""
+    r = fem.solve(dls(Dt=Dt), h=0.3, fields=False)
+    P = r.quantities["load"]
+    for name, prof in r.profiles.items():
+        if name.startswith("interface_jump["):
+            assert abs(np.sum(prof["weight"] * prof["traction_t"]) * W) == pytest.approx(P / 2, rel=1e-9)
+            assert np.sum(prof["weight"] * prof["traction_n"]) * W == pytest.approx(0.0, abs=1e-9 * P)
+    if Dt == 1e12:
+        ref = fem.solve(dls(Dt=math.inf), h=0.3, fields=False).profiles["interface_jump"]
+        np.testing.assert_allclose(r.profiles["interface_jump"]["traction_t"], ref["traction_t"],
+                                   rtol=0, atol=1e-6 * np.abs(ref["traction_t"]).max())
 
 
 @pytest.mark.parametrize("E_i", [300.0, 20000.0])          # compliant (Dn > 0) and stiff (Dn < 0)
