@@ -20,7 +20,7 @@ from .shape import axis_weights, shape_2d_work
 # -------------------------------------------------------------------- P2G ----
 
 
-@njit(cache=True, inline="always", fastmath=True)
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def _support(x, y, origin, cell, nn, lp, kind, wx, dwx, wy, dwy):
     """1D weights along x and y of one particle; returns (i0, j0, nodes along x,
     nodes along y), the counts -1 if the support leaves the grid."""
@@ -31,7 +31,7 @@ def _support(x, y, origin, cell, nn, lp, kind, wx, dwx, wy, dwy):
     return i0, j0, nax, nay
 
 
-@njit(cache=True, inline="always", fastmath=True)
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def _scatter_traction(ex, ey, f, fx, fy, origin, cell, nn, lp, mass, force, wx, dwx, wy, dwy):
     """Add a particle traction force acting at its edge point (ex, ey) to field f.
 
@@ -56,7 +56,7 @@ def _scatter_traction(ex, ey, f, fx, fy, origin, cell, nn, lp, mass, force, wx, 
                 force[n, f, 1] += s * fy
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
            origin, cell, nn, lp, kind, multi, internal,
            mass, mom, force, volume, volgrad, disp, pos):
@@ -138,7 +138,7 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
     return -1
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force):
     """Add the internal force -V_p sigma_p . grad S_ip to ``force`` (USF second pass)."""
     idx = np.empty(9, np.int64)
@@ -181,7 +181,7 @@ def multimaterial_nodes(mass):
 # ------------------------------------------------------------ grid update ----
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel):
     """Momentum update p+ = p + (f - alpha p) dt (004 Eq 30) with grid damping alpha,
     then nodal velocity conditions per field: p+ = m v_bc and f += (m v_bc - p+)/dt.
@@ -222,7 +222,7 @@ def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel)
 # -------------------------------------------------------- G2P and stress ----
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def nodal_kinematics(mass, mom, force, nvel, nacc):
     """Nodal velocity v = p/m and acceleration a = f/m per field (0 where m = 0).
 
@@ -243,7 +243,7 @@ def nodal_kinematics(mass, mom, force, nvel, nacc):
     return ke
 
 
-@njit(cache=True, inline="always", fastmath=True)
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol):
     """Incremental small strain d_eps = sym(L) dt (engineering shear), sigma += C d_eps."""
     e0 = L00 * dt
@@ -257,7 +257,7 @@ def _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol):
     pvol[p] *= 1.0 + e0 + e1
 
 
-@njit(cache=True, inline="always", fastmath=True)
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def _edge_velocity(x, y, f, origin, cell, nn, lp, nvel, wx, dwx, wy, dwy):
     """Velocity of field f at point (x, y) from the linear grid shape functions."""
     i0, j0, nax, nay = _support(x, y, origin, cell, nn, lp, 0, wx, dwx, wy, dwy)
@@ -271,7 +271,7 @@ def _edge_velocity(x, y, f, origin, cell, nn, lp, nvel, wx, dwx, wy, dwy):
     return ex, ey
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
            origin, cell, nn, lp, kind, dt, pic, update_stress,
            nvel, nacc):
@@ -340,7 +340,7 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
     return ke, U, work, lost
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def usf_stress_2d(x, pvol, stress, strain, field, C, origin, cell, nn, lp, kind, dt,
                   mass, mom):
     """USF stress update: L from the (contact-corrected) extrapolated velocities."""

@@ -28,7 +28,7 @@ SHAPE_CODES = {"linear": LINEAR, "ugimp": UGIMP, "gimp": UGIMP}
 NODES_PER_AXIS = (2, 3)
 
 
-@njit(cache=True, inline="always", fastmath=True)
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def gimp_1d(r: float, h: float, lp: float):
     """1D uGIMP weight and derivative d/dx_p for r = x_p - x_i."""
     a = abs(r)
@@ -43,7 +43,7 @@ def gimp_1d(r: float, h: float, lp: float):
     return 0.0, 0.0
 
 
-@njit(cache=True, inline="always", fastmath=True)
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def axis_weights(x: float, o: float, h: float, lp: float, kind: int,
                  w: np.ndarray, dw: np.ndarray):
     """Fill w[k], dw[k] for the nodes i0 + k, k < count, along one axis; return (i0, count).
@@ -90,7 +90,7 @@ def shape_2d(x: float, y: float, origin: np.ndarray, cell: np.ndarray, nn: np.nd
     return shape_2d_work(x, y, origin, cell, nn, lp, kind, idx, S, G, wx, dwx, wy, dwy)
 
 
-@njit(cache=True, inline="always", fastmath=True)
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def shape_2d_work(x, y, origin, cell, nn, lp, kind, idx, S, G, wx, dwx, wy, dwy) -> int:
     """:func:`shape_2d` with caller-provided 1D work arrays (no allocation; hot loops)."""
     i0, nax = axis_weights(x, origin[0], cell[0], lp[0], kind, wx, dwx)

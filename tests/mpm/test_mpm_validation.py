@@ -196,3 +196,12 @@ def test_vtk_series_is_written_with_a_pvd_index(tmp_path):
     assert {"displacement", "stress", "material"} <= set(mesh.point_data)
     r.to_vtk(tmp_path / "final.vtu")
     assert (tmp_path / "final.vtu").exists()
+
+
+def test_unequal_cell_sizes_give_the_same_static_answer():
+    r = _solve(_bar(), cell=(0.5, 0.25), ppc=(2, 3))
+    X, u = r.fields["position"], r.fields["displacement"]
+    eps = SIGMA / E
+    np.testing.assert_allclose(u[:, 0], eps * X[:, 0], atol=5e-4 * eps * L)
+    np.testing.assert_allclose(u[:, 1], -NU * eps * X[:, 1], atol=5e-4 * eps * L)
+    assert r.diagnostics["cell"] == [0.5, 0.25]
