@@ -3,8 +3,9 @@
 Load steps scale the prescribed displacements (and external forces) linearly. Inside a
 step the free DOFs are iterated with the exact tangent; convergence is measured as in
 003 Table 3: the L2 norm of the residual of the free DOFs normalised by its norm at the
-first iteration of the step (the one right after the boundary increment), stop at
-``tol`` (1e-11). A backtracking line search on the energy / residual guards against
+first iteration of the step (right after the boundary increment; from the second step on
+the free DOFs start from a secant extrapolation of the last converged increment), stop
+at ``tol`` (1e-11). A backtracking line search on the energy / residual guards against
 diverging iterations; a step that still fails is bisected (``max_cuts`` times) before a
 :class:`interfaces.errors.SolverError` is raised saying what to change.
 """
@@ -35,7 +36,7 @@ class ReducedMatrix:
         self.indptr = sub.indptr
         self.shape = sub.shape
 
-    def __call__(self, data: np.ndarray) -> sp.csc_matrix:
+    def __call__(self, data: np.ndarray) -> sp.csr_matrix:
         return sp.csr_matrix((data[self.map], self.indices, self.indptr), shape=self.shape)
 
 
