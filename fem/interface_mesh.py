@@ -15,7 +15,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from interfaces.errors import CaseError
-from interfaces.laws import LinearInterface
+from interfaces.laws import BilinearNormalInterface, LinearInterface
 
 from .interface_element import frame
 
@@ -35,6 +35,28 @@ class InterfaceElements:
     Dt: np.ndarray
     node_b: np.ndarray
     node_a: np.ndarray
+    Dn_tension: np.ndarray | None = None       # bilinear normal law branches (002 Sec 3.1)
+    Dn_compression: np.ndarray | None = None
+
+    compressed: np.ndarray | None = None       # current branch of each element
+
+    def __post_init__(self):
+        if self.Dn_tension is None:
+            self.Dn_tension = self.Dn.copy()
+        if self.Dn_compression is None:
+            self.Dn_compression = self.Dn.copy()
+        self.compressed = np.zeros(len(self.Dn), dtype=bool)
+        self.set_compressed(self.compressed)
+
+    @property
+    def bilinear(self) -> bool:
+        """A bilinear normal law (different branches) acts on some element."""
+        return bool(np.any(self.Dn_tension != self.Dn_compression))
+
+    def set_compressed(self, compressed: np.ndarray) -> None:
+        """Pick the normal branch of each element: Dn_compression where ``compressed``."""
+        self.compressed = np.asarray(compressed, dtype=bool)
+        self.Dn = np.where(self.compressed, self.Dn_compression, self.Dn_tension)
 
     @property
     def finite_Dn(self) -> np.ndarray:
@@ -53,19 +75,24 @@ def _boundary_facet_data(mesh, element_body):
     return bf, fb, mid
 
 
-def _laws(pair, index: int, midpoints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per-element (Dn, Dt) from the pair's default law and its zones (002 Fig 6)."""
+def _laws(pair, index: int, midpoints: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per-element (Dn tension, Dn compression, Dt) from the pair's default law and its zones
+    (002 Fig 6). Linear laws have equal branches; ``BilinearNormalInterface`` (002 Sec 3.1:
+    perfect or stiffer in compression) is solved by the contact iteration of ``fem.solve``."""
     laws = [pair.law] + [z[1] for z in pair.zones]
+    rows = []
     for k, law in enumerate(laws):
-        if not isinstance(law, LinearInterface):
+        if isinstance(law, LinearInterface):
+            rows.append((law.Dn, law.Dn, law.Dt))
+        elif isinstance(law, BilinearNormalInterface):
+            rows.append((law.Dn_tension, law.Dn_compression, law.Dt))
+        else:
             where = "law" if k == 0 else f"zones[{k - 1}].law"
-            raise CaseError(f"interfaces[{index}].{where}: fem is linear and handles LinearInterface(Dn, Dt) "
-                            f"only, got {type(law).__name__} (002 Sec 3.1: use zones of linear laws, or mpm "
-                            f"for non-linear and contact laws)")
-    Dn = np.array([law.Dn for law in laws], dtype=float)
-    Dt = np.array([law.Dt for law in laws], dtype=float)
+            raise CaseError(f"interfaces[{index}].{where}: fem handles LinearInterface and "
+                            f"BilinearNormalInterface, got {type(law).__name__} (use mpm for contact laws)")
+    table = np.array(rows, dtype=float)
     k = pair.zone_index(midpoints) + 1
-    return Dn[k], Dt[k]
+    return table[k, 0], table[k, 1], table[k, 2]
 
 
 def find_interface_elements(case, mesh, basis, element_body: np.ndarray, order: int,
@@ -111,10 +138,11 @@ def find_interface_elements(case, mesh, basis, element_body: np.ndarray, order: 
             xy = np.stack([p[:, v0].T, p[:, v1].T], axis=1)
         xdofs = np.stack(side1 + side2, axis=1)                       # (m, 2n) x-DOFs
         dofs = np.stack([xdofs, xdofs + 1], axis=2).reshape(len(xdofs), -1)
-        Dn, Dt = _laws(pair, index, xy.mean(axis=1) if order == 1 else xy[:, 1])
+        Dn, Dn_c, Dt = _laws(pair, index, xy.mean(axis=1) if order == 1 else xy[:, 1])
         node_b = xdofs[:, :order + 1]
         node_a = xdofs[:, order + 1:][:, ::-1]                         # node 2n+1-i <-> node i
-        out.append(InterfaceElements(index, pair.a, pair.b, xy, dofs, Dn, Dt, node_b, node_a))
+        out.append(InterfaceElements(index, pair.a, pair.b, xy, dofs, Dn, Dt, node_b, node_a,
+                                     Dn_tension=Dn, Dn_compression=Dn_c))
     return out
 
 

@@ -18,6 +18,11 @@ Reported (002 Sec 3.1):
   case line keyed by its name (``s, x, y, ux, uy``); fields at mesh vertices for VTK
   (``position, displacement, stress`` (Voigt of the analysis), ``material, body``).
 
+A ``BilinearNormalInterface`` (different Dn in tension and compression, e.g. perfect in
+compression: 002 Fig 6-7 "inf/1") is solved by an active-set iteration over the
+interface elements (002 Sec 3.1 suggests this iterative FEA), reported in
+``diagnostics["history"]``.
+
 Axisymmetric analyses integrate per radian and report whole-ring forces and energies
 (x 2 pi). Units: mm, N, MPa.
 """
@@ -55,6 +60,7 @@ OPTIONS = {
     "jump_points": "Gauss points per interface element in the jump profile (default 3)",
     "pin_rigid_modes": "fix the fewest DOFs that remove unrestrained rigid motion (default True)",
     "fields": "store vertex fields and cells (default True)",
+    "max_contact_iterations": "active-set iterations for bilinear normal laws (default 50)",
 }
 
 
@@ -77,7 +83,8 @@ def _options(case, options: dict) -> dict:
            "line_points": int(opts.get("line_points", 201)),
            "jump_points": int(opts.get("jump_points", 3)),
            "pin_rigid_modes": bool(opts.get("pin_rigid_modes", True)),
-           "fields": bool(opts.get("fields", True))}
+           "fields": bool(opts.get("fields", True)),
+           "max_contact_iterations": int(opts.get("max_contact_iterations", 50))}
     if out["line_points"] < 2 or out["jump_points"] < 1:
         raise CaseError("fem options line_points must be >= 2 and jump_points >= 1")
     return out
@@ -104,7 +111,7 @@ def solve(case, **options) -> Result:
     ``case.discretization["fem"]`` (``fem.solver.OPTIONS`` lists them)."""
     t_start = time.perf_counter()
     opts = _options(case, options)
-    timings: dict[str, float] = {}
+    timings = {"mesh": 0.0, "assembly": 0.0, "constraints": 0.0, "solve": 0.0, "post": 0.0}
     warnings: list[str] = []
 
     t0 = time.perf_counter()
@@ -115,12 +122,8 @@ def solve(case, **options) -> Result:
     moduli = [np.asarray(case.material_of(b.name).stiffness(case.analysis), dtype=float) for b in case.bodies]
     K_bulk = bulk_stiffness(disc.mesh, disc.element, disc.intorder, disc.element_body, moduli,
                             disc.thickness, disc.axisymmetric, disc.ndof)
-    ielems, pairs, jumps, K_jump, M_jump = _interfaces(case, disc, warnings)
+    ielems = _interface_elements(case, disc, warnings)
     f, presc_d, presc_v = apply_boundary_conditions(disc)
-    timings["assembly"] = time.perf_counter() - t0
-
-    # exact constraints: perfect directions, supports, rigid modes (fem.constraints)
-    t0 = time.perf_counter()
     meas = case.measurements.get("stiffness")
     pins: list[int] = []
     if opts["pin_rigid_modes"]:
@@ -129,28 +132,38 @@ def solve(case, **options) -> Result:
         pins = pin_rigid_modes(rigid_modes(disc.basis.doflocs, disc.axisymmetric), presc_d, f, cand)
         if pins:
             warnings.append(f"pinned {len(pins)} DOF(s) against free rigid motion (loads balanced)")
-    elim = build_elimination(disc.ndof, pairs, prescribed=np.concatenate([presc_d, pins]).astype(np.int64),
-                             values=np.concatenate([presc_v, np.zeros(len(pins))]),
-                             scale=max(np.abs(presc_v).max(initial=0.0), 1e-300))
-    Kr, fr = elim.reduce(K_bulk, f, jumps, K_jump)
-    timings["constraints"] = time.perf_counter() - t0
+    prescribed = np.concatenate([presc_d, pins]).astype(np.int64)
+    values = np.concatenate([presc_v, np.zeros(len(pins))])
+    timings["assembly"] = time.perf_counter() - t0
+
+    # linear solve; with bilinear normal laws an active-set iteration on the element branches
+    # (002 Sec 3.1: "an iterative FEA procedure could prevent interpenetration")
+    bilinear = any(el.bilinear for el in ielems)
+    history = []
+    for iteration in range(opts["max_contact_iterations"] if bilinear else 1):
+        sol = _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings)
+        if not bilinear:
+            break
+        changed = sum(_update_branches(el, sol) for el in ielems if el.bilinear)
+        history.append({"iteration": iteration + 1, "elements_switched": changed,
+                        "compressed_elements": int(sum(np.sum(el.compressed) for el in ielems if el.bilinear))})
+        if changed == 0:
+            break
+    else:
+        raise SolverError(f"the bilinear normal-law iteration did not settle in {opts['max_contact_iterations']} "
+                          "iterations (elements keep switching between tension and compression); raise "
+                          "max_contact_iterations or refine the mesh")
 
     t0 = time.perf_counter()
-    negative_D = any(np.any(el.finite_Dn < 0) or np.any(el.finite_Dt < 0) for el in ielems)
-    q, backward_error, negative_pivots = _solve_symmetric(Kr, fr, allow_indefinite=negative_D)
-    u = elim.expand(q)
-    G, h = elim.jump_map(jumps)
-    J = G @ q + h                   # nodal jumps (normal, tangential) u_b - u_a, without cancellation
-    timings["solve"] = time.perf_counter() - t0
-
-    t0 = time.perf_counter()
+    u, J, pairs = sol["u"], sol["J"], sol["pairs"]
     U_bulk = 0.5 * disc.ring * float(u @ (K_bulk @ u))
-    U_int = 0.5 * disc.ring * float(J @ (K_jump @ J))
+    U_int = 0.5 * disc.ring * float(J @ (sol["K_jump"] @ J))
     quantities = {"strain_energy": U_bulk, "interface_energy": U_int, "total_energy": U_bulk + U_int,
                   "external_work": 0.5 * disc.ring * float(f @ u)}
-    if negative_D:
+    if sol["negative_D"]:
         warnings.append(f"negative interface parameters (002 Eq 52 stiff interphase): saddle-point equilibrium "
-                        f"with {negative_pivots} negative pivots; meaningful only above the rigid-interphase limit")
+                        f"with {sol['negative_pivots']} negative pivots; meaningful only above the "
+                        "rigid-interphase limit")
         if U_bulk + U_int <= 0:
             warnings.append("total energy <= 0: the negative interface parameters exceed the stable limit, "
                             "the result is not physical")
@@ -158,15 +171,12 @@ def solve(case, **options) -> Result:
     if per_volume:      # 000 Fig 5: interfacial energy per unit specimen volume
         quantities["interface_energy_per_volume"] = U_int / float(per_volume)
     if meas:
-        f_int = K_bulk @ u + jumps.T @ (K_jump @ J)
+        f_int = K_bulk @ u + sol["jumps"].T @ (sol["K_jump"] @ J)
         quantities.update(measure_stiffness(disc, meas, f_int, u, U_bulk + U_int))
     profiles = {}
-    to_xy = lambda v: v[:, :1] * pairs.n + v[:, 1:] * pairs.t          # noqa: E731 (n, t) -> (x, y)
-    Jxy = to_xy(J.reshape(-1, 2))
-    Txy = to_xy(recover_tractions(K_bulk, u, f, pairs, M_jump)) if len(pairs.a) else Jxy
     for el in ielems:
         idx = pair_index(pairs, el.node_b)
-        prof = interface_profile(el, Jxy[idx], Txy[idx], opts["jump_points"])
+        prof = interface_profile(el, sol["Jxy"][idx], sol["Txy"][idx], opts["jump_points"])
         profiles[f"interface_jump[{el.a}|{el.b}]"] = prof
         profiles.setdefault("interface_jump", prof)
     for name, seg in case.lines.items():
@@ -186,42 +196,87 @@ def solve(case, **options) -> Result:
     timings["total"] = time.perf_counter() - t_start
 
     diagnostics = {
-        "dofs": int(disc.ndof), "free_dofs": int(Kr.shape[0]), "elements": int(disc.mesh.t.shape[1]),
+        "dofs": int(disc.ndof), "free_dofs": int(sol["free_dofs"]), "elements": int(disc.mesh.t.shape[1]),
         "cell_type": bm.cell_type, "order": disc.order, "element_size": opts["element_size"],
         "interface_elements": {f"{el.a}|{el.b}": int(len(el.xy)) for el in ielems},
         "interface_node_pairs": int(len(pairs.a)), "perfect_normal_nodes": int(pairs.perfect_n.sum()),
         "perfect_tangential_nodes": int(pairs.perfect_t.sum()), "prescribed_dofs": int(len(presc_d)),
-        "pinned_dofs": [int(d) for d in pins], "backward_error": backward_error,
-        "negative_pivots": negative_pivots,
+        "pinned_dofs": [int(d) for d in pins], "backward_error": sol["backward_error"],
+        "negative_pivots": sol["negative_pivots"],
         "stress_components": ["rr", "zz", "tt", "rz"] if disc.axisymmetric else ["xx", "yy", "xy"],
         "warnings": warnings,
     }
+    if bilinear:
+        diagnostics["iterations"] = len(history)
+        diagnostics["history"] = history
     return Result(method="fem", case_name=case.name, quantities=quantities, fields=fields, cells=cells,
                   profiles=profiles, timings=timings, diagnostics=diagnostics)
 
 
-def _interfaces(case, disc, warnings):
-    """Interface elements of all pairs (plus perfect bonds between touching bodies without a
-    declared interface), their node pairs, the jump operator and the jump-space stiffness."""
+def _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings) -> dict:
+    """One linear solve with the elements' current Dn, Dt: interface operators, exact
+    elimination (fem.constraints), SuperLU, nodal jumps and recovered tractions."""
+    t0 = time.perf_counter()
+    pairs, jumps, K_jump, M_jump = _interface_operators(disc, ielems)
+    elim = build_elimination(disc.ndof, pairs, prescribed=prescribed, values=values,
+                             scale=max(np.abs(values).max(initial=0.0), 1e-300))
+    Kr, fr = elim.reduce(K_bulk, f, jumps, K_jump)
+    timings["constraints"] += time.perf_counter() - t0
+    t0 = time.perf_counter()
+    negative_D = any(np.any(el.finite_Dn < 0) or np.any(el.finite_Dt < 0) for el in ielems)
+    q, backward_error, negative_pivots = _solve_symmetric(Kr, fr, allow_indefinite=negative_D)
+    u = elim.expand(q)
+    G, h = elim.jump_map(jumps)
+    J = G @ q + h                   # nodal jumps (normal, tangential) u_b - u_a, without cancellation
+    timings["solve"] += time.perf_counter() - t0
+    to_xy = lambda v: v[:, :1] * pairs.n + v[:, 1:] * pairs.t          # noqa: E731 (n, t) -> (x, y)
+    T = recover_tractions(K_bulk, u, f, pairs, M_jump) if len(pairs.a) else np.zeros((0, 2))
+    return {"pairs": pairs, "jumps": jumps, "K_jump": K_jump, "u": u, "J": J, "T": T,
+            "Jxy": to_xy(J.reshape(-1, 2)), "Txy": to_xy(T), "free_dofs": Kr.shape[0],
+            "backward_error": backward_error, "negative_pivots": negative_pivots, "negative_D": negative_D}
+
+
+def _update_branches(el, sol) -> int:
+    """Active set of a bilinear normal law: an element in its tension branch switches to the
+    compression branch when its mean normal jump is negative (interpenetration); an element in
+    compression returns when its mean normal traction becomes tensile. Returns the switches."""
+    n = el.xy.shape[1]
+    w = np.array([0.5, 0.5]) if n == 2 else np.array([1.0, 4.0, 1.0]) / 6.0   # int N_i dxi / 2
+    idx = pair_index(sol["pairs"], el.node_b)
+    jn = sol["J"].reshape(-1, 2)[idx, 0] @ w
+    tn = sol["T"][idx, 0] @ w
+    new = np.where(el.compressed, tn < 0, jn < 0)
+    changed = int(np.sum(new != el.compressed))
+    el.set_compressed(new)
+    return changed
+
+
+def _interface_elements(case, disc, warnings):
+    """Interface elements of all pairs, plus perfect bonds between touching bodies without a
+    declared interface."""
     implicit = _implicit_pairs(case, disc.mesh, disc.element_body, disc.tol)
     for p in implicit:
         warnings.append(f"bodies {p.a!r} and {p.b!r} touch without a declared interface: bonded perfectly")
     pair_case = case if not implicit else _with_pairs(case, implicit)
-    ielems = find_interface_elements(pair_case, disc.mesh, disc.basis, disc.element_body, disc.order, disc.tol)
+    return find_interface_elements(pair_case, disc.mesh, disc.basis, disc.element_body, disc.order, disc.tol)
+
+
+def _interface_operators(disc, ielems):
+    """Node pairs, the jump operator, the jump-space stiffness and the unit-D matrix M."""
     pairs = node_pairs(ielems)
     check_one_direction_straight(pairs, ielems)
     jumps = jump_operator(pairs, disc.ndof)
-    K_jump = sp.csr_matrix((2 * len(pairs.a), 2 * len(pairs.a)))
-    M_jump = sp.csr_matrix((2 * len(pairs.a), 2 * len(pairs.a)))      # int N_i N_j ds (unit D)
+    k = len(pairs.a)
+    K_jump = sp.csr_matrix((2 * k, 2 * k))
+    M_jump = sp.csr_matrix((2 * k, 2 * k))      # int N_i N_j ds (unit D), for traction recovery
     for el in ielems:   # one vectorized block per interface pair
         idx = pair_index(pairs, el.node_b)
         frames = np.stack([pairs.n[idx], pairs.t[idx]], axis=-1)         # (m, n, 2, 2) columns n, t
         K_jump = K_jump + jump_stiffness(el.xy, idx, frames, el.finite_Dn, el.finite_Dt,
-                                         disc.thickness, disc.axisymmetric, len(pairs.a))
+                                         disc.thickness, disc.axisymmetric, k)
         one = np.ones(len(el.xy))
-        M_jump = M_jump + jump_stiffness(el.xy, idx, frames, one, one, disc.thickness, disc.axisymmetric,
-                                         len(pairs.a))
-    return ielems, pairs, jumps, K_jump.tocsr(), M_jump.tocsr()
+        M_jump = M_jump + jump_stiffness(el.xy, idx, frames, one, one, disc.thickness, disc.axisymmetric, k)
+    return pairs, jumps, K_jump.tocsr(), M_jump.tocsr()
 
 
 def _solve_symmetric(Kr: sp.csr_matrix, fr: np.ndarray, allow_indefinite: bool) -> tuple[np.ndarray, float, int]:

@@ -12,7 +12,7 @@ from interfaces.analytic.dls import dls_identical_stiffness
 from interfaces.case import Body, BoundaryCondition, Case, InterfacePair
 from interfaces.errors import CaseError
 from interfaces.geometry import Circle, Rectangle
-from interfaces.laws import LinearInterface
+from interfaces.laws import LinearInterface, StickContact
 from interfaces.materials import IsotropicElastic
 
 T, L_BOND, L_ARM, W = 0.6, 25.0, 5.0, 10.0          # 002 Sec 3.1 specimen
@@ -95,6 +95,32 @@ def test_two_zone_normal_interface_lies_between_uniform_cases():
     assert np.abs(prof["jump_n"][top]).max() < 1e-12 * np.abs(prof["jump_t"]).max()
     assert np.abs(prof["jump_n"][~top]).max() > 1e-3 * np.abs(prof["jump_t"]).max()
     assert k["zone"].quantities["stiffness_energy"] == pytest.approx(ks["zone"], rel=1e-6)
+
+
+def test_bilinear_normal_law_by_active_set_iteration():
+    """002 Fig 6-7 'inf/1': perfect in compression, Dn = 1 in tension. The active-set iteration
+    settles with no interpenetration, tension-branch elements open, and the stiffness lies
+    between the linear Dn = 1 and Dn = inf results (MPM reference of 002 Sec 3.1)."""
+    Dt = 100.0
+    r = fem.solve(dls(Dt=Dt, Dn=1.0, Dn_compression=math.inf), h=0.3, fields=False)
+    k_soft = fem.solve(dls(Dt=Dt, Dn=1.0), h=0.3, fields=False).quantities["stiffness"]
+    k_perfect = fem.solve(dls(Dt=Dt), h=0.3, fields=False).quantities["stiffness"]
+    q = r.quantities
+    assert k_soft < q["stiffness"] < k_perfect
+    assert q["stiffness_energy"] == pytest.approx(q["stiffness"], rel=1e-6)
+    hist = r.diagnostics["history"]
+    assert hist[-1]["elements_switched"] == 0 and 0 < hist[-1]["compressed_elements"]
+    for name, prof in r.profiles.items():
+        if name.startswith("interface_jump["):
+            # element means (3 Gauss points per element, contiguous in s): the active-set conditions
+            w = prof["weight"].reshape(-1, 3)
+            jn = (w * prof["jump_n"].reshape(-1, 3)).sum(1) / w.sum(1)
+            tn = (w * prof["traction_n"].reshape(-1, 3)).sum(1) / w.sum(1)
+            compressed = np.isinf(prof["Dn"].reshape(-1, 3)[:, 0])
+            assert compressed.any() and (~compressed).any()
+            assert np.all(tn[compressed] < 0)                           # contact pushes
+            assert np.all(jn[~compressed] > -1e-12 * np.abs(jn).max())  # no interpenetration
+            assert jn.max() > 1e-4                                      # the tension zone opens
 
 
 def test_linear_elements_agree_with_shear_lag():
@@ -234,8 +260,10 @@ def test_bad_input_is_rejected_with_clear_messages():
         fem.solve(case, h=0.3, order=3)
     with pytest.raises(CaseError, match="element_size"):
         fem.solve(case, h=-1.0)
-    with pytest.raises(CaseError, match="LinearInterface"):
-        fem.solve(dls(Dt=10.0, Dn=1.0, Dn_compression=math.inf), h=0.3)
+    contact = dls(Dt=10.0)
+    contact.interfaces[0].law = StickContact()
+    with pytest.raises(CaseError, match="mpm"):
+        fem.solve(contact, h=0.3)
     disc = Case(name="c", analysis="plane_strain", materials={"m": IsotropicElastic(E=1.0, nu=0.3)},
                 bodies=[Body("c", Circle(0, 0, 1.0), "m")])
     with pytest.raises(CaseError, match="rectangles and polygons"):
