@@ -24,32 +24,31 @@ def strain_voigt(grad, value, x, axisymmetric: bool):
     return e
 
 
-def _elasticity_form(C: np.ndarray, thickness: float, axisymmetric: bool) -> BilinearForm:
-    nz = [(i, j, float(C[i, j])) for i in range(C.shape[0]) for j in range(C.shape[1]) if C[i, j] != 0.0]
+def _elasticity_form(pattern: np.ndarray, thickness: float, axisymmetric: bool) -> BilinearForm:
+    """int sigma(u) : eps(v) dV with per-element moduli C_ij passed as fields ``c{i}{j}``;
+    ``pattern`` lists the (i, j) entries that are non-zero in some body."""
 
     @BilinearForm
     def form(u, v, w):
         eu = strain_voigt(u.grad, u, w.x, axisymmetric)
         ev = strain_voigt(v.grad, v, w.x, axisymmetric)
         out = 0.0
-        for i, j, c in nz:          # at most 16 constant moduli, each over all elements at once
-            out = out + c * eu[j] * ev[i]
+        for i, j in pattern:        # at most 16 moduli, each over all elements at once
+            out = out + w[f"c{i}{j}"] * eu[j] * ev[i]
         return out * (w.x[0] if axisymmetric else thickness)
 
     return form
 
 
-def bulk_stiffness(mesh, element, intorder: int, element_body: np.ndarray, moduli: list[np.ndarray],
-                   thickness: float, axisymmetric: bool, ndof: int) -> sp.csr_matrix:
-    """Sum over bodies of int B^T C B dV (one scikit-fem basis restricted to each body)."""
-    K = sp.csr_matrix((ndof, ndof))
-    for k, C in enumerate(moduli):
-        cells = np.flatnonzero(element_body == k)
-        if len(cells) == 0:
-            continue
-        basis = CellBasis(mesh, element, intorder=intorder, elements=cells)
-        K = K + _elasticity_form(C, thickness, axisymmetric).assemble(basis)
-    return K.tocsr()
+def bulk_stiffness(basis: CellBasis, element_body: np.ndarray, moduli: list[np.ndarray],
+                   thickness: float, axisymmetric: bool) -> sp.csr_matrix:
+    """int B^T C B dV over all bodies in one scikit-fem assembly, C per element (its body's
+    ``material.stiffness(analysis)``)."""
+    C = np.stack(moduli)[element_body]                                   # (ne, nv, nv)
+    pattern = np.argwhere(np.any(C != 0.0, axis=0))
+    nqp = basis.X.shape[1]
+    fields = {f"c{i}{j}": np.repeat(C[:, i, j][:, None], nqp, axis=1) for i, j in pattern}
+    return _elasticity_form(pattern, thickness, axisymmetric).assemble(basis, **fields).tocsr()
 
 
 def facet_load(mesh, element, facets: np.ndarray, traction: np.ndarray, thickness: float,

@@ -120,8 +120,7 @@ def solve(case, **options) -> Result:
 
     t0 = time.perf_counter()
     moduli = [np.asarray(case.material_of(b.name).stiffness(case.analysis), dtype=float) for b in case.bodies]
-    K_bulk = bulk_stiffness(disc.mesh, disc.element, disc.intorder, disc.element_body, moduli,
-                            disc.thickness, disc.axisymmetric, disc.ndof)
+    K_bulk = bulk_stiffness(disc.basis, disc.element_body, moduli, disc.thickness, disc.axisymmetric)
     ielems = _interface_elements(case, disc, warnings)
     f, presc_d, presc_v = apply_boundary_conditions(disc)
     meas = case.measurements.get("stiffness")
