@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from .kernels import assemble
+from .kernels import assemble, horizon_radius2, within
 
 
 @dataclass
@@ -45,7 +45,9 @@ def neighbour_lists(X: np.ndarray, members: np.ndarray, delta: float):
     exactly on the horizon radius inside it.
     """
     members = np.asarray(members, dtype=np.int64)
-    pairs = cKDTree(X[members]).query_pairs(delta * (1.0 + 1e-12), output_type="ndarray")
+    pairs = cKDTree(X[members]).query_pairs(delta * (1.0 + 1e-9), output_type="ndarray").astype(np.int64)
+    # exact membership by the same compiled test the kernels use for the other tuple edges
+    pairs = pairs[within(X, members[pairs[:, 0]], members[pairs[:, 1]], horizon_radius2(delta))]
     a = np.concatenate([pairs[:, 0], pairs[:, 1]]).astype(np.int64)
     b = np.concatenate([pairs[:, 1], pairs[:, 0]]).astype(np.int64)
     order = np.lexsort((members[b], a))
@@ -157,7 +159,7 @@ class CPDSystem:
         for blk, (c1, c2, c3) in zip(self.blocks, self._cpar):
             e, n1, n2, n3 = assemble(self.X, u, blk.centers, blk.nptr, blk.nidx, c1, c2, c3,
                                      self.vol, tangent, self.pattern.rowptr, self.pattern.cols,
-                                     data, f, e_node)
+                                     data, f, e_node, horizon_radius2(self.delta))
             energy += e
             counts["pairs"] += n1
             counts["triples"] += n2

@@ -33,6 +33,31 @@ from numba import njit
 DEGENERATE_TOL = 1e-8
 
 
+def horizon_radius2(delta: float) -> float:
+    """Squared radius deciding horizon membership (a relative 1e-12 keeps grid points that
+    lie on the horizon radius inside it); used by the neighbour search and the kernels."""
+    return (delta * (1.0 + 1e-12)) ** 2
+
+
+@njit(cache=True)
+def _dist2(X, i, j):
+    """Squared reference distance of nodes i and j (one compiled formula for every test)."""
+    s = 0.0
+    for al in range(X.shape[1]):
+        t = X[i, al] - X[j, al]
+        s += t * t
+    return s
+
+
+@njit(cache=True)
+def within(X, a, b, r2):
+    """Mask of the node pairs (a[k], b[k]) with |X_a - X_b|^2 <= r2."""
+    out = np.empty(a.shape[0], np.bool_)
+    for k in range(a.shape[0]):
+        out[k] = _dist2(X, a[k], b[k]) <= r2
+    return out
+
+
 @njit(cache=True)
 def _find(cols, lo, hi, key):
     """Binary search of ``key`` in the sorted slice ``cols[lo:hi]``; -1 if absent."""
@@ -125,15 +150,22 @@ def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data):
 
 @njit(cache=True)
 def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
-             rowptr, cols, data, f, e_node):
+             rowptr, cols, data, f, e_node, r2):
     """Energy of one material; add its residual to ``f`` and its tangent to ``data``.
 
     X, u: (N, d) reference positions and displacements of all nodes. ``centers`` (M,)
-    central nodes of this material, their neighbours ``nidx[nptr[c]:nptr[c+1]]`` (same
+    central nodes of this material (all points of its point set), their neighbours ``nidx[nptr[c]:nptr[c+1]]`` (same
     material, within the horizon). C1, C2, C3: (M,) constants per central point, vol:
-    (N,) point volumes. The energy of the tuples of central point p (V_p times its energy
-    density, 003 Eq 7) is added to ``e_node[p]``. Returns (energy, pairs, triples,
-    quadruples) counted.
+    (N,) point volumes, r2 the squared horizon radius of the neighbour search. The energy
+    of the tuples of central point p (V_p times its energy density, 003 Eq 7) is added to
+    ``e_node[p]``. Returns (energy, pairs, triples, quadruples) evaluated.
+
+    a = |xi_i x xi_j| and v = |(xi_i x xi_j) . xi_k| are twice the triangle area and six
+    times the tetrahedron volume of the tuple: they do not depend on which vertex is the
+    central point, and neither do A, V nor psi2, psi3. A triangle (tetrahedron) therefore
+    enters W once for every vertex whose horizon holds the other vertices; it is
+    evaluated once, at the lowest-numbered such vertex, with that multiplicity as weight,
+    and its energy is attributed equally to those vertices.
     """
     d = X.shape[1]
     energy = 0.0
@@ -144,7 +176,6 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
     H = np.zeros((3, 3, d, d))
     slots = np.zeros(3, np.int64)
     for c in range(centers.shape[0]):
-        e_start = energy
         p = centers[c]
         s0 = nptr[c]
         n = nptr[c + 1] - s0
@@ -164,6 +195,17 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                 s2 += Xi[a, al] * Xi[a, al]
             Ln[a] = np.sqrt(s2)
         f_loc = np.zeros(nl * d)
+        e_loc = np.zeros(nl)
+        multi = C2[c] != 0.0 or (d == 3 and C3[c] != 0.0)
+        if multi:
+            D2 = np.empty((n, n))
+            for a in range(n):
+                D2[a, a] = 0.0
+                for b in range(a + 1, n):
+                    D2[a, b] = _dist2(X, nodes[a + 1], nodes[b + 1])
+                    D2[b, a] = D2[a, b]
+        else:
+            D2 = np.empty((0, 0))
         if want_tangent:
             Kloc = np.zeros((nl * d, nl * d))
         else:
@@ -181,7 +223,9 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                 l = np.sqrt(l2)
                 if l == 0.0:
                     raise ValueError("two interacting points coincide (l = 0)")
-                energy += 0.5 * w * L * (l / L - 1.0) ** 2
+                e_t = 0.5 * w * L * (l / L - 1.0) ** 2
+                energy += e_t
+                e_loc[0] += e_t
                 coef = w * (1.0 / L - 1.0 / l)
                 slots[0] = a + 1
                 for al in range(d):
@@ -196,17 +240,30 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
             full = True
             for a in range(n):
                 for b in range(a + 1, n):
-                    w = (2.0 / 3.0) * Vp * vol[nodes[a + 1]] * vol[nodes[b + 1]] * C2[c]
+                    qa = nodes[a + 1]
+                    qb = nodes[b + 1]
+                    mult = 1.0
+                    if D2[a, b] <= r2:          # all three vertices are central points of it
+                        if qa < p or qb < p:
+                            continue
+                        mult = 3.0
+                    w = mult * (2.0 / 3.0) * Vp * vol[qa] * vol[qb] * C2[c]
+                    tol2 = DEGENERATE_TOL * (Ln[a] * Ln[a] + Ln[b] * Ln[b] + D2[a, b])
                     slots[0] = a + 1
                     slots[1] = b + 1
                     if d == 2:
                         A = abs(Xi[a, 0] * Xi[b, 1] - Xi[a, 1] * Xi[b, 0])
-                        if A <= DEGENERATE_TOL * Ln[a] * Ln[b]:
+                        if A <= tol2:
                             continue
                         s = xi[a, 0] * xi[b, 1] - xi[a, 1] * xi[b, 0]
                         sg = 1.0 if s >= 0.0 else -1.0
                         aa = abs(s)
-                        energy += 0.5 * w * (aa - A) ** 2 / A
+                        e_t = 0.5 * w * (aa - A) ** 2 / A
+                        energy += e_t
+                        e_loc[0] += e_t / mult
+                        if mult > 1.0:
+                            e_loc[a + 1] += e_t / mult
+                            e_loc[b + 1] += e_t / mult
                         d1 = w * (aa - A) / A * sg      # dpsi/ds
                         d2 = w / A                       # d2psi/ds2
                         g[0, 0] = xi[b, 1]
@@ -232,7 +289,7 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         N0[1] = Xi[a, 2] * Xi[b, 0] - Xi[a, 0] * Xi[b, 2]
                         N0[2] = Xi[a, 0] * Xi[b, 1] - Xi[a, 1] * Xi[b, 0]
                         A = np.sqrt(N0[0] ** 2 + N0[1] ** 2 + N0[2] ** 2)
-                        if A <= DEGENERATE_TOL * Ln[a] * Ln[b]:
+                        if A <= tol2:
                             continue
                         nv = np.empty(3)
                         nv[0] = xi[a, 1] * xi[b, 2] - xi[a, 2] * xi[b, 1]
@@ -241,7 +298,12 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         aa = np.sqrt(nv[0] ** 2 + nv[1] ** 2 + nv[2] ** 2)
                         if aa == 0.0:
                             raise ValueError("a two-neighbour interaction collapsed (a = 0)")
-                        energy += 0.5 * w * (aa - A) ** 2 / A
+                        e_t = 0.5 * w * (aa - A) ** 2 / A
+                        energy += e_t
+                        e_loc[0] += e_t / mult
+                        if mult > 1.0:
+                            e_loc[a + 1] += e_t / mult
+                            e_loc[b + 1] += e_t / mult
                         d1 = w * (aa - A) / A            # dpsi/da
                         d2 = w / A                       # d2psi/da2
                         mv = nv / aa
@@ -307,15 +369,38 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                     xab0 = xi[a, 1] * xi[b, 2] - xi[a, 2] * xi[b, 1]
                     xab1 = xi[a, 2] * xi[b, 0] - xi[a, 0] * xi[b, 2]
                     xab2 = xi[a, 0] * xi[b, 1] - xi[a, 1] * xi[b, 0]
+                    qa = nodes[a + 1]
+                    qb = nodes[b + 1]
+                    ab_in = D2[a, b] <= r2
                     for cc in range(b + 1, n):
-                        V0 = abs(cab0 * Xi[cc, 0] + cab1 * Xi[cc, 1] + cab2 * Xi[cc, 2])
-                        if V0 <= DEGENERATE_TOL * Ln[a] * Ln[b] * Ln[cc]:
+                        qc = nodes[cc + 1]
+                        ac_in = D2[a, cc] <= r2
+                        bc_in = D2[b, cc] <= r2
+                        # vertices (besides p) whose horizon holds the other three
+                        a_c = ab_in and ac_in
+                        b_c = ab_in and bc_in
+                        c_c = ac_in and bc_in
+                        if (a_c and qa < p) or (b_c and qb < p) or (c_c and qc < p):
                             continue
-                        w = 1.5 * Vp * vol[nodes[a + 1]] * vol[nodes[b + 1]] * vol[nodes[cc + 1]] * C3[c]
+                        mult = 1.0 + a_c + b_c + c_c
+                        V0 = abs(cab0 * Xi[cc, 0] + cab1 * Xi[cc, 1] + cab2 * Xi[cc, 2])
+                        S = (Ln[a] * Ln[a] + Ln[b] * Ln[b] + Ln[cc] * Ln[cc]
+                             + D2[a, b] + D2[a, cc] + D2[b, cc]) / 6.0
+                        if V0 <= DEGENERATE_TOL * S * np.sqrt(S):
+                            continue
+                        w = mult * 1.5 * Vp * vol[qa] * vol[qb] * vol[qc] * C3[c]
                         s = xab0 * xi[cc, 0] + xab1 * xi[cc, 1] + xab2 * xi[cc, 2]
                         sg = 1.0 if s >= 0.0 else -1.0
                         vv = abs(s)
-                        energy += 0.5 * w * (vv - V0) ** 2 / V0
+                        e_t = 0.5 * w * (vv - V0) ** 2 / V0
+                        energy += e_t
+                        e_loc[0] += e_t / mult
+                        if a_c:
+                            e_loc[a + 1] += e_t / mult
+                        if b_c:
+                            e_loc[b + 1] += e_t / mult
+                        if c_c:
+                            e_loc[cc + 1] += e_t / mult
                         d1 = w * (vv - V0) / V0 * sg     # dpsi/ds
                         d2 = w / V0
                         # ds/dxi_a = xi_b x xi_c, ds/dxi_b = xi_c x xi_a, ds/dxi_c = xi_a x xi_b
@@ -364,7 +449,8 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         slots[2] = cc + 1
                         _add_tuple(Kloc, f_loc, slots, 3, d, g, H)
                         n_quad += 1
-        e_node[p] += energy - e_start
+        for m in range(nl):
+            e_node[nodes[m]] += e_loc[m]
         _close_central(Kloc, f_loc, nl, d)
         for m in range(nl):
             for al in range(d):

@@ -123,23 +123,25 @@ class LatticeRatios:
 def _interior_energy_density(h: float, delta: float, dim: int, C: tuple, H: np.ndarray) -> float:
     """Energy density (per reference volume) of the central point of a grid patch under u = H X."""
     from .assembly import neighbour_lists
-    from .kernels import assemble
+    from .kernels import assemble, horizon_radius2
 
     m = int(math.ceil(delta / h)) + 1
     ax = np.arange(-m, m + 1) * h
     X = np.stack(np.meshgrid(*([ax] * dim), indexing="ij"), axis=-1).reshape(-1, dim)
     X = X[np.linalg.norm(X, axis=1) <= delta * (1 + 1e-9)]
     center = int(np.argmin(np.linalg.norm(X, axis=1)))
-    nptr, nidx = neighbour_lists(X, np.arange(len(X)), delta)
-    c = np.array([center], dtype=np.int64)
-    ptr = np.array([0, nptr[center + 1] - nptr[center]], dtype=np.int64)
-    idx = nidx[nptr[center]:nptr[center + 1]].copy()
+    # every patch point is a central point (the kernels evaluate each tuple once at one
+    # of its central vertices); the centre's own share is read from the per-point energy
+    members = np.arange(len(X), dtype=np.int64)
+    nptr, nidx = neighbour_lists(X, members, delta)
     vol = np.full(len(X), h ** dim)
     u = X @ H.T
     f = np.zeros_like(X)
-    Cs = [np.array([C[k]], dtype=float) for k in range(3)]
-    e, *_ = assemble(X, u, c, ptr, idx, Cs[0], Cs[1], Cs[2], vol, False,
-                     np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(0), f, np.zeros(len(X)))
+    e_node = np.zeros(len(X))
+    Cs = [np.full(len(X), C[k], dtype=float) for k in range(3)]
+    assemble(X, u, members, nptr, nidx, Cs[0], Cs[1], Cs[2], vol, False,
+             np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(0), f, e_node, horizon_radius2(delta))
+    e = e_node[center]
     return e / h ** dim
 
 
