@@ -265,3 +265,15 @@ def test_non_convergence_raises_solver_error_with_advice():
     case = _square(parameter_set=2, load_case=1, interface="vertical", strain_scale=1000.0)
     with pytest.raises(SolverError, match="load_steps"):
         peridynamics.solve(case, h=0.1, max_iter=1)
+
+
+@pytest.mark.slow
+def test_cuboid_3d_paper_horizon():
+    """003 Sec 4.5 horizon delta = 3.01 h (one- and three-neighbour interactions) on a small cuboid."""
+    case = library.cuboid(interface="horizontal", load_case=2, size=(0.3, 0.2, 0.2))
+    res = peridynamics.solve(case, h=0.05, delta_factor=3.01)
+    r = res.diagnostics["newton_history"][0]["residuals"]
+    assert r[-1] <= 1e-11 and len(r) <= 5
+    for a, b in zip(r[:-1], r[1:]):
+        if a < 1e-3 and b > 1e-13:
+            assert b < 1e3 * a * a
