@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -145,6 +146,7 @@ def _interior_energy_density(h: float, delta: float, dim: int, C: tuple, H: np.n
     return e / h ** dim
 
 
+@lru_cache(maxsize=32)
 def lattice_ratios(h: float, delta: float, dim: int, strain: float = 1e-7) -> LatticeRatios:
     """Measure the discrete interior energy density against the continuum formulas.
 

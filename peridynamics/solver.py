@@ -24,6 +24,9 @@ from .discretization import Discretization, discretize
 from .newton import NewtonOptions, newton_solve
 from .parameters import calibrate, cpd_from_lame, lattice_ratios
 
+#: tuple count per tangent evaluation above which :func:`solve` warns about the run time
+TUPLE_WARNING = 3e8
+
 OPTIONS = ("h", "delta_factor", "overlap", "load_steps", "tol", "max_iter", "calibration",
            "constants", "line_search", "grid")
 
@@ -182,9 +185,9 @@ def solve(case, **options) -> Result:
 
     Options (override ``case.discretization["cpd"]``): ``h`` grid spacing (0.01),
     ``delta_factor`` delta / h (3.01), ``overlap`` overlap width l_ov / delta (1.0; 003
-    Sec 4.3 uses 2, 1, 1/2, 1/4), ``load_steps`` (1) equal load steps or normalised residual (1e-11),
-    a list of increasing load factors ending at 1 (003 Table 3: [0.01, 0.25, 0.5, 0.75, 1]),
-    ``max_iter`` per step (25), ``calibration`` ``"continuum"`` (003 / ERRATA 12) or
+    Sec 4.3 uses 2, 1, 1/2, 1/4), ``load_steps`` (1) equal load steps or a list of
+    increasing load factors ending at 1 (003 Table 3: [0.01, 0.25, 0.5, 0.75, 1]), ``tol``
+    normalised residual (1e-11), ``max_iter`` per step (25), ``calibration`` ``"continuum"`` (003 / ERRATA 12) or
     ``"lattice"`` (constants rescaled to the grid's interior energy density),
     ``constants`` {material: [C1, C2, C3]} to bypass the (E, nu) conversion,
     ``line_search`` (True), ``grid`` ``"vertex"`` (points on boundaries and straight
@@ -206,7 +209,7 @@ def solve(case, **options) -> Result:
     timings["neighbours_pattern"] = time.perf_counter() - t0
     fixed, u_bar, f_ext = boundary_vectors(disc)
     est = estimate_tuples(system)
-    if est["quadruples"] + est["triples"] > 3e8:
+    if est["quadruples"] + est["triples"] > TUPLE_WARNING:
         msg = (f"CPD: ~{est['triples']:.2g} triples and ~{est['quadruples']:.2g} quadruples per tangent "
                f"evaluation (about {2e-7 * (est['triples'] + est['quadruples']):.0f} s each on one core); "
                "reduce delta_factor, the body size or refine less")
@@ -234,27 +237,28 @@ def solve(case, **options) -> Result:
             q[f"reaction_{tag}_{lab}"] = float(F[c])
     if disc.tractions:
         q["external_work"] = float(f_ext @ outcome.u) * thick
-    warnings = []
+    notes = []
     for pair in case.interfaces:
         law = pair.law
         if not (getattr(law, "perfect_normal", True) and getattr(law, "perfect_tangential", True)):
-            warnings.append(f"interface {pair.a}-{pair.b}: the CPD overlap interface is perfectly bonded "
+            notes.append(f"interface {pair.a}-{pair.b}: the CPD overlap interface is perfectly bonded "
                             f"(003 Sec 3); the law {law!r} is not represented")
     try:
-        ratios = lattice_ratios(h, delta, d).__dict__
+        ratios = {k: float(v) for k, v in lattice_ratios(h, delta, d).__dict__.items()}
     except Exception as e:  # pragma: no cover - diagnostics only
         ratios = {"error": str(e)}
     diagnostics = {
         "newton_history": outcome.history,
         "convergence_measure": "L2 norm of the free-DOF residual normalised by its value at the "
                                "first iteration of each load step (003 Table 3)",
-        "iterations": outcome.iterations, "linear_solver": outcome.linear, "h": h, "delta": delta, "overlap": o["overlap"] * delta,
+        "iterations": outcome.iterations, "linear_solver": outcome.linear,
+        "h": h, "delta": delta, "overlap": o["overlap"] * delta,
         "n_points": int(len(disc.X)), "n_layer_points": int(disc.layer.sum()),
         "n_shared_points": int((disc.member.sum(axis=1) > 1).sum()),
         "n_dofs": int(len(disc.X) * d), "n_free_dofs": int(len(disc.X) * d - len(fixed)),
         "tangent_nnz": int(system.pattern.nnz), "tuples": ev.tuples,
         "constants": used, "calibration": o["calibration"], "lattice_ratios": ratios,
-        "warnings": warnings,
+        "warnings": notes,
     }
     fields = {"position": disc.X.copy(), "displacement": U.copy(),
               "material": disc.material_id.astype(np.int64),

@@ -277,3 +277,11 @@ def test_cuboid_3d_paper_horizon():
     for a, b in zip(r[:-1], r[1:]):
         if a < 1e-3 and b > 1e-13:
             assert b < 1e3 * a * a
+
+
+def test_large_runs_warn_before_solving(monkeypatch):
+    monkeypatch.setattr(peridynamics.solver, "TUPLE_WARNING", 0.0)
+    case = _square(parameter_set=3, load_case=1)
+    with pytest.warns(RuntimeWarning, match="triples"):
+        res = peridynamics.solve(case, h=0.1)
+    assert res.diagnostics["warnings"] == []
