@@ -24,9 +24,9 @@ def strain_voigt(grad, value, x, axisymmetric: bool):
     return e
 
 
-def _elasticity_form(pattern: np.ndarray, thickness: float, axisymmetric: bool) -> BilinearForm:
-    """int sigma(u) : eps(v) dV with per-element moduli C_ij passed as fields ``c{i}{j}``;
-    ``pattern`` lists the (i, j) entries that are non-zero in some body."""
+def elasticity_form(pattern, thickness: float, axisymmetric: bool) -> BilinearForm:
+    """scikit-fem form of int sigma(u) : eps(v) dV with per-element moduli passed as fields
+    ``c{i}{j}`` for the (i, j) in ``pattern``: the reference for :func:`bulk_stiffness`."""
 
     @BilinearForm
     def form(u, v, w):
@@ -41,14 +41,32 @@ def _elasticity_form(pattern: np.ndarray, thickness: float, axisymmetric: bool) 
 
 
 def bulk_stiffness(basis: CellBasis, element_body: np.ndarray, moduli: list[np.ndarray],
-                   thickness: float, axisymmetric: bool) -> sp.csr_matrix:
-    """int B^T C B dV over all bodies in one scikit-fem assembly, C per element (its body's
-    ``material.stiffness(analysis)``)."""
+                   thickness: float, axisymmetric: bool, chunk: int = 4096) -> sp.csr_matrix:
+    """int B^T C B dV over all bodies, C per element (its body's ``material.stiffness``).
+
+    The same integral as :func:`elasticity_form` assembled by scikit-fem, evaluated from
+    the basis functions scikit-fem tabulated (``basis.basis``) as one batched product
+    B^T (C B) per chunk of elements instead of one form call per pair of local functions
+    (~10x faster for 9-node quads); tests check both agree to round-off.
+    """
     C = np.stack(moduli)[element_body]                                   # (ne, nv, nv)
-    pattern = np.argwhere(np.any(C != 0.0, axis=0))
-    nqp = basis.X.shape[1]
-    fields = {f"c{i}{j}": np.repeat(C[:, i, j][:, None], nqp, axis=1) for i, j in pattern}
-    return _elasticity_form(pattern, thickness, axisymmetric).assemble(basis, **fields).tocsr()
+    x = np.asarray(basis.global_coordinates())
+    weight = basis.dx * (x[0] if axisymmetric else thickness)            # (ne, nq)
+    nloc, ne = basis.Nbfun, basis.nelems
+    data = np.empty((ne, nloc, nloc))
+    for lo in range(0, ne, chunk):   # bounded memory; each chunk fully vectorized
+        e = slice(lo, min(lo + chunk, ne))
+        B = np.stack([np.stack(strain_voigt(np.asarray(phi.grad)[..., e, :], np.asarray(phi)[:, e],
+                                            x[:, e], axisymmetric)) for (phi,) in basis.basis])  # (nloc, nv, ec, nq)
+        B = B.transpose(2, 0, 1, 3)                                      # (ec, nloc, nv, nq)
+        CB = np.einsum("evw,ejwq->ejvq", C[e], B)
+        Bw = B * weight[e][:, None, None, :]
+        ec = B.shape[0]
+        data[e] = np.matmul(Bw.reshape(ec, nloc, -1), CB.reshape(ec, nloc, -1).transpose(0, 2, 1))
+    dofs = basis.element_dofs.T                                          # (ne, nloc)
+    rows = np.repeat(dofs, nloc, axis=1).ravel()
+    cols = np.tile(dofs, (1, nloc)).ravel()
+    return sp.coo_matrix((data.ravel(), (rows, cols)), shape=(basis.N, basis.N)).tocsr()
 
 
 def facet_load(mesh, element, facets: np.ndarray, traction: np.ndarray, thickness: float,
@@ -92,4 +110,4 @@ def jump_stiffness(xy: np.ndarray, jump_nodes: np.ndarray, frames: np.ndarray, D
     return sp.coo_matrix((Kj.ravel(), (rows, cols)), shape=(2 * npairs, 2 * npairs)).tocsr()
 
 
-__all__ = ["bulk_stiffness", "facet_load", "jump_operator", "jump_stiffness", "strain_voigt"]
+__all__ = ["bulk_stiffness", "elasticity_form", "facet_load", "jump_operator", "jump_stiffness", "strain_voigt"]
