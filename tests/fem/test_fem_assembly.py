@@ -30,3 +30,26 @@ def test_batched_bulk_stiffness_equals_scikit_fem_form(case, h, order):
     K_ref = elasticity_form(pattern, disc.thickness, disc.axisymmetric).assemble(disc.basis, **fields)
     assert abs(K - K_ref).max() <= 1e-13 * abs(K_ref).max()
     assert abs(K - K.T).max() <= 1e-13 * abs(K).max()
+
+
+@pytest.mark.parametrize("angle", [0.0, 30.0])
+@pytest.mark.parametrize("order", [1, 2])
+def test_jump_space_interface_energy_equals_002_element_matrices(angle, order):
+    """The solver's interface stiffness on jump unknowns (interface frame) gives the same
+    energy as the 002 Eq 15-19 element matrices on the element DOFs (fem.interface_element),
+    for any displacement: checks node pairing, side orientation and frames."""
+    from fem.interface_element import stiffness_batch
+    from fem.solver import _interface_elements, _interface_operators
+    case = dls(Dt=7.0, Dn=3.0, angle=angle)
+    disc = discretize(case, 0.3, order, 2 * order, 1e7)
+    ielems = _interface_elements(case, disc, [])
+    pairs, jumps, K_jump, _ = _interface_operators(disc, ielems)
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        u = rng.normal(size=disc.ndof)
+        J = jumps @ u
+        e_jump = 0.5 * J @ (K_jump @ J)
+        e_elem = sum(0.5 * np.einsum("mi,mij,mj->", u[el.dofs],
+                                     stiffness_batch(el.xy, el.Dn, el.Dt, thickness=case.thickness), u[el.dofs])
+                     for el in ielems)
+        assert e_jump == pytest.approx(e_elem, rel=1e-12)
