@@ -14,7 +14,7 @@ from numba import njit
 
 from mpm.multimaterial_constants import (
     HPERP_NONE, LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, NORMAL_AG,
-    NORMAL_AVG, NORMAL_LR, NORMAL_MVG, NORMAL_RMVG, NORMAL_SN, OUT_AREA, OUT_ENERGY,
+    NORMAL_AVG, NORMAL_MVG, NORMAL_RMVG, NORMAL_SN, OUT_AREA, OUT_ENERGY,
     OUT_JUMP_N, OUT_JUMP_T, OUT_NX, OUT_STATUS, OUT_TRACTION_N, OUT_TRACTION_T,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
@@ -29,7 +29,7 @@ from mpm.multimaterial_normals import (
 # ---------------------------------------------------------------------------
 # small helpers
 # ---------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _dot(u, v) -> float:
     s = 0.0
     for k in range(u.shape[0]):
@@ -37,7 +37,7 @@ def _dot(u, v) -> float:
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law):
     """Law code of the pair (a, b) at node i; fills ``law`` with its 4 parameters.
     A node inside a zone of that pair uses the zone's law (002 Fig 6)."""
@@ -55,23 +55,24 @@ def _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_para
     return kind[a, b]
 
 
-@njit(cache=True)
-def _present_fields(mass_i, tol, present) -> int:
-    """Indices of fields with m_k > tol * m_total at one node; returns their count."""
+@njit(cache=True, inline="always")
+def _present_fields(mass, i, tol, present) -> int:
+    """Indices of fields with m_k > tol * m_total at node i; returns their count."""
+    m = mass.shape[1]
     mtot = 0.0
-    for k in range(mass_i.shape[0]):
-        mtot += mass_i[k]
+    for k in range(m):
+        mtot += mass[i, k]
     npres = 0
     if not (mtot > 0.0):
         return 0
-    for k in range(mass_i.shape[0]):
-        if mass_i[k] > tol * mtot and mass_i[k] > 0.0:
+    for k in range(m):
+        if mass[i, k] > tol * mtot and mass[i, k] > 0.0:
             present[npres] = k
             npres += 1
     return npres
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield, p_b, f_b, g_b, x_b):
     """Quantities of the partner field b, or of the virtual material lumping every
     present field except a (000 Sec 2.2, 004 Eq 50) when ``b_only`` < 0.
@@ -102,7 +103,7 @@ def _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
     return m_b, om_b
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _largest_partner(i, a, present, npres, vol, rigid) -> int:
     """The other non-rigid field with the most volume (000 Sec 2.6 step 2)."""
     best = -1
@@ -184,7 +185,7 @@ def _jump(i, a, x_a, x_b, n, cell, settings, lr_sep, jump, t_hat) -> float:
 # contact / perfect-direction momentum change for one (a, b) interaction
 # ---------------------------------------------------------------------------
 @njit(cache=True)
-def _delta_p(code, law, dp0, n, dn, approaching, touching, out) -> bool:
+def _delta_p(code, law, dp0, n, dn, approaching, touching, out, tv) -> bool:
     """Momentum change of material a (000 Eq 7-16, 004 Eq 8-10, 002 Sec 2.4).
 
     ``dp0`` = m_a v_c - p_a (000 Eq 7 / Eq 29 for rigid b), ``n`` the unit normal a->b,
@@ -206,7 +207,6 @@ def _delta_p(code, law, dp0, n, dn, approaching, touching, out) -> bool:
             return True
         # Coulomb friction, 004 Eq 8-10 with S_slide = min(mu N_c, dp0.t/(A_c dt)):
         # dp = (dp0.n) n + min(-mu dp0.n, dp0.t) t, t along the tangential part of dp0
-        tv = np.empty(d)
         tt = 0.0
         for k in range(d):
             tv[k] = dp0[k] - dpn * n[k]
@@ -243,35 +243,35 @@ def _delta_p(code, law, dp0, n, dn, approaching, touching, out) -> bool:
 
 @njit(cache=True)
 def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force, vol, grad, disp, pos,
-                    cell, tvol, code, law, settings, rigid_b, lr_normal, lr_sep, dt, out) -> bool:
+                    cell, tvol, code, law, settings, rigid_b, lr_normal, lr_sep, dt, out, work) -> bool:
     """Momentum change of material a against b (or the lump of all others)."""
     d = mom.shape[2]
     if code == LAW_NONE:
         return False
-    p_b = np.empty(d)
-    f_b = np.empty(d)
-    g_b = np.empty(d)
-    x_b = np.empty(d)
+    p_b = work[0]
+    f_b = work[1]
+    g_b = work[2]
+    x_b = work[3]
+    dp0 = work[4]
+    n = work[5]
+    jump = work[6]
+    t_hat = work[7]
     xfield = pos if int(settings[S_SEPARATION]) == SEP_OFFSET else disp
     m_b, om_b = _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
                           p_b, f_b, g_b, x_b)
     m_a = mass[i, a]
-    dp0 = np.empty(d)
     for k in range(d):
         if rigid_b:                    # 000 Eq 28-29: v_c = v_b
             dp0[k] = m_a * p_b[k] / m_b - mom[i, a, k]
         else:                          # 000 Eq 7-8
             dp0[k] = m_a * (mom[i, a, k] + p_b[k]) / (m_a + m_b) - mom[i, a, k]
     if code == LAW_PERFECT:
-        return _delta_p(code, law, dp0, dp0, 0.0, True, True, out)
+        return _delta_p(code, law, dp0, dp0, 0.0, True, True, out, work[8])
     om_a = vol[i, a]
     if om_a + om_b < settings[S_EDGE_CUTOFF] * tvol:      # edge-node screening (000 Sec 3)
         return False
-    n = np.empty(d)
     if not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings, lr_normal, n):
         return False
-    jump = np.empty(d)
-    t_hat = np.empty(d)
     _jump(i, a, xfield[i, a], x_b, n, cell, settings, lr_sep, jump, t_hat)
     dn = _dot(jump, n)
     if phase == 1:
@@ -282,10 +282,10 @@ def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force
         dn += dt * rel
     approaching = _dot(dp0, n) < 0.0         # 000 Eq 9: dv.n < 0  <=>  dp_a.n < 0
     touching = dn <= 0.0                     # 000 Eq 12-14, 004 Eq 15/24
-    return _delta_p(code, law, dp0, n, dn, approaching, touching, out)
+    return _delta_p(code, law, dp0, n, dn, approaching, touching, out, work[8])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _cell_volume(cell, thick, i) -> float:
     v = 1.0
     for k in range(cell.shape[0]):
@@ -309,11 +309,12 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
     touched = np.zeros(m, dtype=np.bool_)
     law = np.empty(4)
     one = np.empty(d)
+    work = np.empty((12, d))
     inv_dt = 1.0 / dt if dt > 0.0 else 0.0
     count = 0
     for ii in range(nodes.shape[0]):
         i = nodes[ii]
-        npres = _present_fields(mass[i], tol, present)
+        npres = _present_fields(mass, i, tol, present)
         if npres < 2:
             continue
         tvol = _cell_volume(cell, thick, i)
@@ -337,7 +338,7 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
                     continue
                 code = _pair_law(i, a, r, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
                 if _interaction_dp(i, a, r, r, present, npres, phase, mass, mom, force, vol, grad, disp,
-                                   pos, cell, tvol, code, law, settings, True, lr_normal, lr_sep, dt, one):
+                                   pos, cell, tvol, code, law, settings, True, lr_normal, lr_sep, dt, one, work):
                     touched[a] = True
                     for k in range(d):
                         dp[a, k] = one[k]
@@ -347,7 +348,7 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
             b = present[1]
             code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
             if _interaction_dp(i, a, b, b, present, npres, phase, mass, mom, force, vol, grad, disp, pos,
-                               cell, tvol, code, law, settings, False, lr_normal, lr_sep, dt, one):
+                               cell, tvol, code, law, settings, False, lr_normal, lr_sep, dt, one, work):
                 touched[a] = True
                 touched[b] = True
                 for k in range(d):
@@ -366,7 +367,7 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
                 code = _pair_law(i, a, b_law, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
                 if _interaction_dp(i, a, -1, b_law, present, npres, phase, mass, mom, force, vol, grad,
                                    disp, pos, cell, tvol, code, law, settings, False, lr_normal, lr_sep,
-                                   dt, one):
+                                   dt, one, work):
                     touched[a] = True
                     for k in range(d):
                         dp[a, k] = one[k]
@@ -403,15 +404,22 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
 @njit(cache=True)
 def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol, grad, disp, pos,
                      cell, tvol, law, settings, rigid_b, lr_normal, lr_sep, dt, f_out, node_out,
-                     write_out) -> float:
+                     write_out, work) -> float:
     """Interface force on material a from b (or the lump of the others); returns U_i."""
     d = mom.shape[2]
     for k in range(d):
         f_out[k] = 0.0
-    p_b = np.empty(d)
-    f_b = np.empty(d)
-    g_b = np.empty(d)
-    x_b = np.empty(d)
+    p_b = work[0]
+    f_b = work[1]
+    g_b = work[2]
+    x_b = work[3]
+    n = work[4]
+    jump = work[5]
+    t_hat = work[6]
+    jt = work[7]
+    ft = work[8]
+    fmax = work[9]
+    fmt = work[10]
     xfield = pos if int(settings[S_SEPARATION]) == SEP_OFFSET else disp
     m_b, om_b = _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
                           p_b, f_b, g_b, x_b)
@@ -422,11 +430,8 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
         if write_out:
             node_out[i, OUT_STATUS] = STATUS_SCREENED
         return 0.0
-    n = np.empty(d)
     if not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings, lr_normal, n):
         return 0.0
-    jump = np.empty(d)
-    t_hat = np.empty(d)
     h = _jump(i, a, xfield[i, a], x_b, n, cell, settings, lr_sep, jump, t_hat)
     # contact area, 000 Eq 20 (ERRATA 8) with dx -> h_perp (Eq 22); volumes carry t
     if settings[S_AREA_CORRECTION] != 0.0:
@@ -434,7 +439,6 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
     else:
         area = omega / h
     dn = _dot(jump, n)
-    jt = np.empty(d)
     for k in range(d):
         jt[k] = jump[k] - dn * n[k]
     dn_stiff = law[P_DN_COMPRESSION] if dn <= 0.0 else law[P_DN_TENSION]   # bilinear, 002 Sec 2.4
@@ -442,7 +446,8 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
     n_finite = not math.isinf(dn_stiff)
     t_finite = not math.isinf(dt_stiff)
     fn = dn_stiff * dn * area if n_finite else 0.0
-    ft = np.zeros(d)
+    for k in range(d):
+        ft[k] = 0.0
     if t_finite:
         for k in range(d):
             ft[k] = dt_stiff * jt[k] * area
@@ -453,7 +458,6 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
     e_t = 0.5 * dt_stiff * _dot(jt, jt) * area if t_finite else 0.0
     if settings[S_FORCE_LIMIT] != 0.0 and dt > 0.0:
         # 000 Eq 26-27: the force that brings a and b to the centre-of-mass position
-        fmax = np.empty(d)
         if rigid_b:
             m_red = m_a
         else:
@@ -472,7 +476,6 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
             e_n = 0.0
             status += STATUS_LIMITED_N
         if t_finite:
-            fmt = np.empty(d)
             for k in range(d):
                 fmt[k] = fmax[k] - fmax_n * n[k]
             if _dot(ft, ft) > _dot(fmt, fmt):
@@ -518,10 +521,11 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
     fadd = np.zeros((m, d))
     law = np.empty(4)
     one = np.empty(d)
+    work = np.empty((12, d))
     total = 0.0
     for ii in range(nodes.shape[0]):
         i = nodes[ii]
-        npres = _present_fields(mass[i], tol, present)
+        npres = _present_fields(mass, i, tol, present)
         if npres < 2:
             continue
         tvol = _cell_volume(cell, thick, i)
@@ -546,7 +550,7 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
                     continue
                 total += _interface_force(i, a, r, r, present, npres, mass, mom, force, vol, grad, disp,
                                           pos, cell, tvol, law, settings, True, lr_normal, lr_sep, dt, one,
-                                          node_out, write_out)
+                                          node_out, write_out, work)
                 for k in range(d):
                     fadd[a, k] = one[k]
         elif npres == 2:
@@ -557,7 +561,7 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
                 continue
             total += _interface_force(i, a, b, b, present, npres, mass, mom, force, vol, grad, disp, pos,
                                       cell, tvol, law, settings, False, lr_normal, lr_sep, dt, one,
-                                      node_out, write_out)
+                                      node_out, write_out, work)
             for k in range(d):
                 fadd[a, k] = one[k]
                 fadd[b, k] = -one[k]       # 002 Eq 39: equal and opposite
@@ -577,7 +581,7 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
                     continue
                 e_node += _interface_force(i, a, -1, b_law, present, npres, mass, mom, force, vol, grad,
                                            disp, pos, cell, tvol, law, settings, False, lr_normal, lr_sep,
-                                           dt, one, node_out, write_out and not any_force)
+                                           dt, one, node_out, write_out and not any_force, work)
                 any_force = True
                 for k in range(d):
                     fadd[a, k] = one[k]

@@ -11,22 +11,21 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 
 @njit(cache=True)
-def _normalise(v, out) -> bool:
+def _normalise_inplace(out) -> bool:
     s = 0.0
-    for k in range(v.shape[0]):
-        s += v[k] * v[k]
+    for k in range(out.shape[0]):
+        s += out[k] * out[k]
     if not (s > 0.0):
         for k in range(out.shape[0]):
             out[k] = 0.0
         return False
     inv = 1.0 / math.sqrt(s)
     for k in range(out.shape[0]):
-        out[k] = v[k] * inv
+        out[k] *= inv
     return True
 
 
@@ -35,10 +34,9 @@ def normal_sn(sn_vector, a, b, out) -> bool:
     """Specified normal (SN, 000 Sec 2.5). ``sn_vector`` points from the lower to the
     higher field index, so it is negated when a > b."""
     sign = 1.0 if a < b else -1.0
-    tmp = np.empty(out.shape[0])
     for k in range(out.shape[0]):
-        tmp[k] = sign * sn_vector[k]
-    return _normalise(tmp, out)
+        out[k] = sign * sn_vector[k]
+    return _normalise_inplace(out)
 
 
 @njit(cache=True)
@@ -50,48 +48,44 @@ def normal_mvg(g_a, g_b, out) -> bool:
     for k in range(out.shape[0]):
         sa += g_a[k] * g_a[k]
         sb += g_b[k] * g_b[k]
-    tmp = np.empty(out.shape[0])
     if sa >= sb:
         for k in range(out.shape[0]):
-            tmp[k] = g_a[k]
+            out[k] = g_a[k]
     else:
         for k in range(out.shape[0]):
-            tmp[k] = -g_b[k]
-    return _normalise(tmp, out)
+            out[k] = -g_b[k]
+    return _normalise_inplace(out)
 
 
 @njit(cache=True)
 def normal_avg(omega_a, g_a, omega_b, g_b, out) -> bool:
     """Average volume gradient (AVG, 000 Sec 2.5): (Omega_a g_a - Omega_b g_b) / (2 Omega)
     normalised (the 1/(2 Omega) factor drops out)."""
-    tmp = np.empty(out.shape[0])
     for k in range(out.shape[0]):
-        tmp[k] = omega_a * g_a[k] - omega_b * g_b[k]
-    return _normalise(tmp, out)
+        out[k] = omega_a * g_a[k] - omega_b * g_b[k]
+    return _normalise_inplace(out)
 
 
 @njit(cache=True)
 def normal_ag(g_a, g_b, out) -> bool:
     """Average gradient (AG, 004 Eq 13): (g_a - g_b) / |g_a - g_b|."""
-    tmp = np.empty(out.shape[0])
     for k in range(out.shape[0]):
-        tmp[k] = g_a[k] - g_b[k]
-    return _normalise(tmp, out)
+        out[k] = g_a[k] - g_b[k]
+    return _normalise_inplace(out)
 
 
 @njit(cache=True)
 def normal_rmvg(g_a, g_b, a_rigid, b_rigid, out) -> bool:
     """Rigid material volume gradient (RMVG, 000 Sec 2.5): the rigid material's own
     normal (g_a if a is rigid, -g_b if b is rigid), MVG when neither is rigid."""
-    tmp = np.empty(out.shape[0])
     if b_rigid:
         for k in range(out.shape[0]):
-            tmp[k] = -g_b[k]
-        return _normalise(tmp, out)
+            out[k] = -g_b[k]
+        return _normalise_inplace(out)
     if a_rigid:
         for k in range(out.shape[0]):
-            tmp[k] = g_a[k]
-        return _normalise(tmp, out)
+            out[k] = g_a[k]
+        return _normalise_inplace(out)
     return normal_mvg(g_a, g_b, out)
 
 
@@ -108,13 +102,13 @@ def any_tangent(n, out) -> None:
         ax = 1
     if abs(n[2]) < abs(n[ax]):
         ax = 2
-    e = np.zeros(3)
-    e[ax] = 1.0
-    c = np.empty(3)
-    c[0] = n[1] * e[2] - n[2] * e[1]
-    c[1] = n[2] * e[0] - n[0] * e[2]
-    c[2] = n[0] * e[1] - n[1] * e[0]
-    _normalise(c, out)
+    e0 = 1.0 if ax == 0 else 0.0
+    e1 = 1.0 if ax == 1 else 0.0
+    e2 = 1.0 if ax == 2 else 0.0
+    out[0] = n[1] * e2 - n[2] * e1
+    out[1] = n[2] * e0 - n[0] * e2
+    out[2] = n[0] * e1 - n[1] * e0
+    _normalise_inplace(out)
 
 
 @njit(cache=True)
