@@ -192,6 +192,15 @@ def solve(case, **options) -> Result:
     ``constants`` {material: [C1, C2, C3]} to bypass the (E, nu) conversion,
     ``line_search`` (True), ``grid`` ``"vertex"`` (points on boundaries and straight
     interfaces; default) or ``"cell"`` (cell centres).
+
+    Result: quantities ``strain_energy`` (points of the bodies; each overlap point carries
+    the energy of both materials, boundary layers excluded), ``strain_energy_with_layers``,
+    ``reaction_<body|all>_<side>_<x|y|z>`` (internal force sum on the prescribed points of a
+    side = force the support exerts), ``iterations``, ``load_steps``; fields ``position``
+    (reference), ``displacement``, ``material`` (body index, n_bodies = shared overlap
+    point: 0 A, 1 B, 2 shared for two bodies), ``energy_density``, ``boundary_layer``;
+    profiles along ``case.lines`` (s, x, y[, z], ux, uy[, uz]); diagnostics with the
+    Newton history per load step, tuple counts, constants, lattice ratios.
     """
     t_start = time.perf_counter()
     o = _options(case, options)
