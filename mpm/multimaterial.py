@@ -65,7 +65,8 @@ __all__ = [
 ]
 
 DEFAULT_OPTIONS: dict = {
-    "normal": "MVG",              # SN | MVG | AVG | AG | RMVG | LR
+    "normal": "AVG",              # SN | MVG | AVG | AG | RMVG | LR (AVG: right at free-edge
+                                  # nodes where MVG tilts 45 deg, 000 Sec 3; SN when known)
     "normal_vector": None,        # SN: unit normal from the lower to the higher body index
     "separation": "displacement",  # displacement (000 Eq 13) | offset (Eq 14) | LR (004 Eq 24)
     "contact_offset": 0.8,        # delta_con = 0.8 h (000 Eq 14 with h = h_perp)
@@ -195,7 +196,7 @@ def build_pair_tables(case, options: dict | None = None,
     dim = int(getattr(case, "dimension", 2))
 
     settings = np.zeros(N_SETTINGS)
-    normal = str(opts["normal"]).upper() if opts["normal"] is not None else "MVG"
+    normal = str(opts["normal"]).upper() if opts["normal"] is not None else "AVG"
     if normal not in NORMAL_CODES:
         raise _err(f"mpm option normal must be one of {sorted(NORMAL_CODES)}, got {opts['normal']!r}")
     settings[S_NORMAL] = NORMAL_CODES[normal]
