@@ -169,3 +169,24 @@ def test_lr_contact_detection_in_correct_momentum():
             np.testing.assert_allclose(v[:, 0, 1], v[:, 1, 1], atol=1e-12)
         else:
             assert changed == 0
+
+
+def test_lr_in_3d_finds_the_plane_and_gap():
+    """3D point clouds (4^3-cell lattice, 2 particles per cell and axis): two boxes
+    meeting on z = 0, the upper one lifted by a gap; normal a -> b = -z, d_LR = gap."""
+    h, gap = 0.5, 0.2
+    g = (np.arange(-4, 4) + 0.5) * h
+    X, Y, Z = np.meshgrid(g, g, g, indexing="ij")
+    x = np.column_stack([X.ravel(), Y.ravel(), Z.ravel()])
+    field = (x[:, 2] < 0).astype(np.int64)          # a = 0 on top (z > 0), b = 1 below
+    x[field == 0, 2] += gap
+    origin, cell, nn = np.full(3, -3.0), np.ones(3), np.array([7, 7, 7])
+    mass = np.zeros((343, 2))
+    ij = np.stack(np.meshgrid(np.arange(7), np.arange(7), indexing="ij"), -1).reshape(-1, 2)
+    inner = np.all(np.abs(ij - 3) <= 1, axis=1)
+    nodes = ij[inner, 0] + 7 * (ij[inner, 1] + 7 * 3)   # nodes on z = 0, |x|, |y| <= 1
+    mass[nodes] = 1.0
+    nrm, sep = lr_normals_separations(x, field, np.full(3, h / 2), origin, cell, nn, mass,
+                                      nodes=nodes)
+    np.testing.assert_allclose(nrm[nodes, 0], np.tile([0.0, 0.0, -1.0], (len(nodes), 1)), atol=1e-10)
+    np.testing.assert_allclose(sep[nodes, 0], gap, atol=1e-10)
