@@ -306,7 +306,7 @@ def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal
 def lr_normals_separations(x: np.ndarray, field: np.ndarray, half_width: np.ndarray,
                            origin: np.ndarray, cell: np.ndarray, nn: np.ndarray,
                            mass: np.ndarray, nodes: np.ndarray | None = None,
-                           F: np.ndarray | None = None, mass_tolerance: float = 1.0e-10,
+                           F: np.ndarray | None = None, mass_tolerance: float = 0.0,
                            out: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
     """LR contact normals and separations for one step (004 Eq 19-25, 53-57).
 
