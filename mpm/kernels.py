@@ -3,8 +3,9 @@
 Layout of the nodal arrays: mpm/LAYOUT.md. Step order (004 Sec 3.2, Eq 26-34):
 P2G -> contact correction (phase 0) -> interface forces -> momentum update with grid
 damping and nodal boundary conditions -> contact correction (phase 1) -> G2P (FLIP,
-optional PIC blend) -> stress update (USL) . With ``usf`` the stress update uses the
-phase-0 corrected extrapolated velocities before the internal force is extrapolated.
+optional PIC blend) -> stress update: USL (default, updated grid velocities), MUSL (
+momenta re-extrapolated from the updated particles, robust on boundaries that cut
+cells) or USF (phase-0 corrected initial extrapolation, before the internal force).
 
 P2G scatters serially (numba has no CPU atomics; a serial scatter is race-free and,
 at 2 cores shared by several jobs, as fast as per-thread grids plus a reduction).
@@ -16,6 +17,13 @@ import numpy as np
 from numba import njit
 
 from .shape import axis_weights, shape_2d_work
+
+#: stress-update schemes: update stress last (grid velocities after the momentum
+#: update), first (initial extrapolation), modified USL (re-extrapolated particle momenta)
+USL = 0
+USF = 1
+MUSL = 2
+UPDATE_CODES = {"usl": USL, "usf": USF, "musl": MUSL}
 
 # -------------------------------------------------------------------- P2G ----
 
@@ -31,29 +39,48 @@ def _support(x, y, origin, cell, nn, lp, kind, wx, dwx, wy, dwy):
     return i0, j0, nax, nay
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
-def _scatter_traction(ex, ey, f, fx, fy, origin, cell, nn, lp, mass, force, wx, dwx, wy, dwy):
-    """Add a particle traction force acting at its edge point (ex, ey) to field f.
 
-    Linear grid weights at the edge point, restricted to the nodes where field f has
-    mass and renormalised: once the edge has moved past a node line the node beyond
-    it is massless and a force there would be lost.
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _traction_weights(px, py, ex, ey, origin, cell, nn, lp, kind, tidx, tw,
+                      wx, dwx, wy, dwy, qx, dqx, qy, dqy):
+    """Nodes and weights carrying the traction of the particle at (px, py) whose loaded
+    edge point is (ex, ey); returns their number.
+
+    Linear grid weights at the edge point (the particle-edge integral of GIMP
+    tractions: on an edge lying on a node line the whole force goes to that line), kept
+    only on nodes of the particle's own support (S_ip > 0), then renormalised: a node
+    without mass (the edge moved past a node line) would lose the force. The small
+    share a tail node receives once the edge has moved past a node line balances the
+    internal force of that node (dropping it costs 1.7 % of the end displacement of a
+    uniaxial bar). If no node qualifies, the particle's own weights S_ip are used.
     """
     i0, j0, nax, nay = _support(ex, ey, origin, cell, nn, lp, 0, wx, dwx, wy, dwy)
+    k0, l0, nbx, nby = _support(px, py, origin, cell, nn, lp, kind, qx, dqx, qy, dqy)
+    c = 0
     tot = 0.0
     for b in range(nay):
         for a in range(nax):
-            if mass[(j0 + b) * nn[0] + i0 + a, f] > 0.0:
-                tot += wx[a] * wy[b]
-    if tot <= 0.0:
-        return
-    for b in range(nay):
-        for a in range(nax):
-            n = (j0 + b) * nn[0] + i0 + a
-            if mass[n, f] > 0.0:
-                s = wx[a] * wy[b] / tot
-                force[n, f, 0] += s * fx
-                force[n, f, 1] += s * fy
+            ka = i0 + a - k0
+            lb = j0 + b - l0
+            if 0 <= ka < nbx and 0 <= lb < nby and qx[ka] * qy[lb] > 0.0:
+                w = wx[a] * wy[b]
+                if w > 0.0:
+                    tidx[c] = (j0 + b) * nn[0] + i0 + a
+                    tw[c] = w
+                    tot += w
+                    c += 1
+    if tot > 0.0:
+        for k in range(c):
+            tw[k] /= tot
+        return c
+    c = 0
+    for b in range(nby):
+        for a in range(nbx):
+            tidx[c] = (l0 + b) * nn[0] + k0 + a
+            tw[c] = qx[a] * qy[b]
+            c += 1
+    return c
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
@@ -122,11 +149,21 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
                     disp[n, f, 1] += s * m * (x[p, 1] - x0[p, 1])
                     pos[n, f, 0] += s * m * x[p, 0]
                     pos[n, f, 1] += s * m * x[p, 1]
+    qx = np.empty(3)
+    dqx = np.empty(3)
+    qy = np.empty(3)
+    dqy = np.empty(3)
+    tidx = np.empty(9, np.int64)
+    tw = np.empty(9)
     for p in range(x.shape[0]):
         if fext[p, 0] != 0.0 or fext[p, 1] != 0.0:
-            _scatter_traction(x[p, 0] + foff[p, 0], x[p, 1] + foff[p, 1], field[p],
-                              fext[p, 0] * load_scale, fext[p, 1] * load_scale,
-                              origin, cell, nn, lp, mass, force, wx, dwx, wy, dwy)
+            f = field[p]
+            c = _traction_weights(x[p, 0], x[p, 1], x[p, 0] + foff[p, 0], x[p, 1] + foff[p, 1],
+                                  origin, cell, nn, lp, kind, tidx, tw, wx, dwx, wy, dwy,
+                                  qx, dqx, qy, dqy)
+            for k in range(c):
+                force[tidx[k], f, 0] += tw[k] * fext[p, 0] * load_scale
+                force[tidx[k], f, 1] += tw[k] * fext[p, 1] * load_scale
     if multi:
         for n in range(mass.shape[0]):
             for f in range(mass.shape[1]):
@@ -257,20 +294,6 @@ def _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol):
     pvol[p] *= 1.0 + e0 + e1
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
-def _edge_velocity(x, y, f, origin, cell, nn, lp, nvel, wx, dwx, wy, dwy):
-    """Velocity of field f at point (x, y) from the linear grid shape functions."""
-    i0, j0, nax, nay = _support(x, y, origin, cell, nn, lp, 0, wx, dwx, wy, dwy)
-    ex = 0.0
-    ey = 0.0
-    for b in range(nay):
-        for a in range(nax):
-            n = (j0 + b) * nn[0] + i0 + a
-            ex += wx[a] * wy[b] * nvel[n, f, 0]
-            ey += wx[a] * wy[b] * nvel[n, f, 1]
-    return ex, ey
-
-
 @njit(cache=True, fastmath=True, error_model="numpy")
 def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
            origin, cell, nn, lp, kind, dt, pic, update_stress,
@@ -291,6 +314,16 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
     U = 0.0
     work = 0.0
     lost = -1
+    qx = np.empty(3)
+    dqx = np.empty(3)
+    qy = np.empty(3)
+    dqy = np.empty(3)
+    ex_ = np.empty(3)
+    dex = np.empty(3)
+    ey_ = np.empty(3)
+    dey = np.empty(3)
+    tidx = np.empty(9, np.int64)
+    tw = np.empty(9)
     nx = nn[0]
     for p in range(x.shape[0]):
         i0, j0, nax, nay = _support(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, dwx, wy, dwy)
@@ -324,10 +357,14 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
                 L10 += vny * gx
                 L11 += vny * gy
         if fext[p, 0] != 0.0 or fext[p, 1] != 0.0:
-            # work of the traction: force x velocity of its point of application
-            ex, ey = _edge_velocity(x[p, 0] + foff[p, 0], x[p, 1] + foff[p, 1], f, origin,
-                                    cell, nn, lp, nvel, wx, dwx, wy, dwy)
-            work += load_scale * (fext[p, 0] * ex + fext[p, 1] * ey) * dt
+            # work of the traction: force x velocity of the nodes that carried it
+            # (weights at the start-of-step position, as in P2G)
+            c = _traction_weights(x[p, 0], x[p, 1], x[p, 0] + foff[p, 0],
+                                  x[p, 1] + foff[p, 1], origin, cell, nn, lp, kind, tidx, tw,
+                                  qx, dqx, qy, dqy, ex_, dex, ey_, dey)
+            for k in range(c):
+                work += load_scale * dt * (fext[p, 0] * nvel[tidx[k], f, 0]
+                                           + fext[p, 1] * nvel[tidx[k], f, 1]) * tw[k]
         x[p, 0] += dt * vx
         x[p, 1] += dt * vy
         v[p, 0] = (1.0 - pic) * (v[p, 0] + dt * ax) + pic * vx
@@ -341,36 +378,82 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def usf_stress_2d(x, pvol, stress, strain, field, C, origin, cell, nn, lp, kind, dt,
-                  mass, mom):
-    """USF stress update: L from the (contact-corrected) extrapolated velocities."""
-    idx = np.empty(9, np.int64)
-    S = np.empty(9)
-    G = np.empty((9, 2))
+def stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn, lp, kind,
+                        dt, mass, mom):
+    """Stress update with L = sum (p_i/m_i) (x) grad S_ip of the particle's own field.
+
+    USF: called with the (contact-corrected) initial extrapolation; MUSL: with the
+    momenta re-extrapolated from the updated particle velocities (mass-weighted
+    averages of particle velocities, so nodes holding only the tails of particles
+    cannot feed huge velocities into L). Returns the strain energy.
+    """
     wx = np.empty(3)
     dwx = np.empty(3)
     wy = np.empty(3)
     dwy = np.empty(3)
+    nx = nn[0]
+    U = 0.0
     for p in range(x.shape[0]):
-        c = shape_2d_work(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G,
-                          wx, dwx, wy, dwy)
+        i0, j0, nax, nay = _support(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, dwx, wy, dwy)
         f = field[p]
         L00 = 0.0
         L01 = 0.0
         L10 = 0.0
         L11 = 0.0
-        for k in range(c):
-            n = idx[k]
-            m = mass[n, f]
-            if m <= 0.0:
-                continue
-            vnx = mom[n, f, 0] / m
-            vny = mom[n, f, 1] / m
-            L00 += vnx * G[k, 0]
-            L01 += vnx * G[k, 1]
-            L10 += vny * G[k, 0]
-            L11 += vny * G[k, 1]
+        for b in range(nay):
+            row = (j0 + b) * nx + i0
+            for a in range(nax):
+                n = row + a
+                m = mass[n, f]
+                if m <= 0.0:
+                    continue
+                gx = dwx[a] * wy[b]
+                gy = wx[a] * dwy[b]
+                vnx = mom[n, f, 0] / m
+                vny = mom[n, f, 1] / m
+                L00 += vnx * gx
+                L01 += vnx * gy
+                L10 += vny * gx
+                L11 += vny * gy
         _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol)
+        U += 0.5 * pvol0[p] * (stress[p, 0] * strain[p, 0] + stress[p, 1] * strain[p, 1]
+                               + stress[p, 2] * strain[p, 2])
+    return U
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def p2g_momentum_2d(x, v, pmass, field, origin, cell, nn, lp, kind, mass, mom):
+    """Re-extrapolate mass and momentum of the updated particles (MUSL, Sulsky et al.)."""
+    mass[:] = 0.0
+    mom[:] = 0.0
+    wx = np.empty(3)
+    dwx = np.empty(3)
+    wy = np.empty(3)
+    dwy = np.empty(3)
+    nx = nn[0]
+    for p in range(x.shape[0]):
+        i0, j0, nax, nay = _support(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, dwx, wy, dwy)
+        if nax < 0:
+            continue
+        f = field[p]
+        m = pmass[p]
+        for b in range(nay):
+            row = (j0 + b) * nx + i0
+            for a in range(nax):
+                s = wx[a] * wy[b] * m
+                n = row + a
+                mass[n, f] += s
+                mom[n, f, 0] += s * v[p, 0]
+                mom[n, f, 1] += s * v[p, 1]
+
+
+@njit(cache=True)
+def set_velocity_bc(mass, mom, bc_node, bc_field, bc_comp, bc_vel):
+    """Nodal velocity conditions on re-extrapolated momenta: p = m v_bc."""
+    for b in range(bc_node.size):
+        n = bc_node[b]
+        f = bc_field[b]
+        mom[n, f, bc_comp[b]] = mass[n, f] * bc_vel[b]
 
 
 # ------------------------------------------------ single-material chunk ----
@@ -385,7 +468,7 @@ def ramp(t, ramp_time):
 
 
 @njit(cache=True)
-def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
+def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, mode,
                  x, v, pmass, pvol, pvol0, stress, strain, field, x0, fext, foff, C,
                  origin, cell, nn, lp, kind,
                  mass, mom, force, volume, volgrad, disp, pos, nvel, nacc,
@@ -407,23 +490,28 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, usf,
     for s in range(nsteps):
         scale = ramp(t, ramp_time)
         lost = p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, scale,
-                      origin, cell, nn, lp, kind, False, not usf,
+                      origin, cell, nn, lp, kind, False, mode != USF,
                       mass, mom, force, volume, volgrad, disp, pos)
         if lost >= 0:
             return s, lost
-        if usf:
-            usf_stress_2d(x, pvol, stress, strain, field, C, origin, cell, nn, lp, kind, dt,
-                          mass, mom)
+        if mode == USF:
+            stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn, lp,
+                                kind, dt, mass, mom)
             p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force)
         for b in range(bc_vel.size):
             vel[b] = bc_vel[b] if t < bc_tend[b] else 0.0
         diss, wbc = grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, vel)
         ke_grid = nodal_kinematics(mass, mom, force, nvel, nacc)
         ke, U, work, lost = g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext,
-                                   foff, scale, C, origin, cell, nn, lp, kind, dt, pic, not usf,
-                                   nvel, nacc)
+                                   foff, scale, C, origin, cell, nn, lp, kind, dt, pic,
+                                   mode == USL, nvel, nacc)
         if lost >= 0:
             return s, lost
+        if mode == MUSL:
+            p2g_momentum_2d(x, v, pmass, field, origin, cell, nn, lp, kind, mass, mom)
+            set_velocity_bc(mass, mom, bc_node, bc_field, bc_comp, vel)
+            U = stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn,
+                                    lp, kind, dt, mass, mom)
         t += dt
         if kinetic_damping and ke < ke_prev[0] and ke_prev[0] >= ke_prev[1]:
             v[:] = 0.0

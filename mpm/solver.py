@@ -126,11 +126,11 @@ class _Runner:
         m = self.m
         pt, nd, bc = m.particles, m.nodal, m.bcs
         hist = np.zeros((nsteps, len(HIST_COLUMNS)))
-        usf = m.opts["update"] == "usf"
+        mode = K.UPDATE_CODES[m.opts["update"]]
         kinetic = m.opts["damping"] == "kinetic"
         if m.M == 1:
             done, lost = K.run_chunk_2d(
-                nsteps, self.t, m.dt, m.ramp_time, m.alpha, kinetic, m.opts["pic"], usf,
+                nsteps, self.t, m.dt, m.ramp_time, m.alpha, kinetic, m.opts["pic"], mode,
                 pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                 pt.x0, pt.fext, pt.foff, m.C, m.grid.origin, m.grid.cell, m.grid.nn, pt.lp, m.kind,
                 nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
@@ -138,7 +138,7 @@ class _Runner:
                 bc.node, bc.field, bc.comp, bc.vel, bc.t_end,
                 hist, self.ke_prev)
         else:
-            done, lost = self._advance_multimaterial(nsteps, hist, usf, kinetic)
+            done, lost = self._advance_multimaterial(nsteps, hist, mode, kinetic)
         self.steps += done
         if done:
             self.t = float(hist[done - 1, 0])
@@ -149,7 +149,7 @@ class _Runner:
                               "or increase the padding option")
         return hist[:done]
 
-    def _advance_multimaterial(self, nsteps, hist, usf, kinetic):
+    def _advance_multimaterial(self, nsteps, hist, mode, kinetic):
         """Python-level step loop around compiled kernels for runs with 2+ fields."""
         from . import multimaterial as mm
         m = self.m
@@ -161,7 +161,8 @@ class _Runner:
         for s in range(nsteps):
             scale = K.ramp(t, m.ramp_time)
             lost = K.p2g_2d(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
-                            pt.foff, scale, g.origin, g.cell, g.nn, pt.lp, m.kind, True, not usf,
+                            pt.foff, scale, g.origin, g.cell, g.nn, pt.lp, m.kind, True,
+                            mode != K.USF,
                             nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
                             nd.displacement, nd.position)
             if lost >= 0:
@@ -171,9 +172,10 @@ class _Runner:
                     nd.displacement, nd.position, g.cell, m.tables, m.dt, thick)
             if multi:
                 mm.correct_momentum(0, *args)
-            if usf:
-                K.usf_stress_2d(pt.x, pt.volume, pt.stress, pt.strain, pt.field, m.C, g.origin,
-                                g.cell, g.nn, pt.lp, m.kind, m.dt, nd.mass, nd.momentum)
+            if mode == K.USF:
+                K.stress_from_grid_2d(pt.x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
+                                      m.C, g.origin, g.cell, g.nn, pt.lp, m.kind, m.dt, nd.mass,
+                                      nd.momentum)
                 K.p2g_internal_force_2d(pt.x, pt.volume, pt.stress, pt.field, g.origin, g.cell,
                                         g.nn, pt.lp, m.kind, nd.force)
             u_int = 0.0
@@ -193,9 +195,18 @@ class _Runner:
             ke, U, work, lost = K.g2p_2d(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
                                          pt.strain, pt.field, pt.fext, pt.foff, scale, m.C, g.origin,
                                          g.cell, g.nn, pt.lp, m.kind, m.dt, m.opts["pic"],
-                                         not usf, nd.velocity, nd.acceleration)
+                                         mode == K.USL, nd.velocity, nd.acceleration)
             if lost >= 0:
                 return s, lost
+            if mode == K.MUSL:
+                K.p2g_momentum_2d(pt.x, pt.v, pt.mass, pt.field, g.origin, g.cell, g.nn, pt.lp,
+                                  m.kind, nd.mass, nd.momentum)
+                K.set_velocity_bc(nd.mass, nd.momentum, bc.node, bc.field, bc.comp, vel)
+                if multi:
+                    mm.correct_momentum(0, *args)
+                U = K.stress_from_grid_2d(pt.x, pt.volume, pt.volume0, pt.stress, pt.strain,
+                                          pt.field, m.C, g.origin, g.cell, g.nn, pt.lp, m.kind,
+                                          m.dt, nd.mass, nd.momentum)
             t += m.dt
             if kinetic and ke < self.ke_prev[0] and self.ke_prev[0] >= self.ke_prev[1]:
                 pt.v[:] = 0.0

@@ -116,9 +116,9 @@ def test_rotated_fibre_gives_the_compliance_in_global_axes():
     np.testing.assert_allclose(strain, S[:, 0] * SIGMA, atol=3e-3 * abs(S[0, 0]) * SIGMA)
 
 
-def test_kinetic_damping_and_usf_reach_the_same_static_answer():
+def test_kinetic_damping_usf_musl_and_pic_reach_the_same_static_answer():
     ref = _solve(_bar()).quantities["stiffness"]
-    for opts in ({"damping": "kinetic"}, {"update": "usf"}):
+    for opts in ({"damping": "kinetic"}, {"update": "usf"}, {"update": "musl"}, {"pic": 0.05}):
         r = _solve(_bar(), **opts)
         assert r.quantities["stiffness"] == pytest.approx(ref, rel=2e-3), opts
 
