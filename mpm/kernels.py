@@ -53,12 +53,17 @@ def _traction_weights(px, py, ex, ey, origin, cell, nn, lp, kind, tidx, tw,
     without mass (the edge moved past a node line) would lose the force. The small
     share a tail node receives once the edge has moved past a node line balances the
     internal force of that node (dropping it costs 1.7 % of the end displacement of a
-    uniaxial bar). If no node qualifies, the particle's own weights S_ip are used.
+    uniaxial bar). Sides that are not aligned with the grid axes cut cells, where
+    the edge point's nodes may hold only particle tails (huge accelerations): their
+    particles carry no offset and use their own weights S_ip, as when no node qualifies.
     """
-    i0, j0, nax, nay = _support(ex, ey, origin, cell, nn, lp, 0, wx, dwx, wy, dwy)
     k0, l0, nbx, nby = _support(px, py, origin, cell, nn, lp, kind, qx, dqx, qy, dqy)
     c = 0
     tot = 0.0
+    if ex == px and ey == py:
+        nay = 0  # no edge offset (side not on the grid axes): the particle's weights
+    else:
+        i0, j0, nax, nay = _support(ex, ey, origin, cell, nn, lp, 0, wx, dwx, wy, dwy)
     for b in range(nay):
         for a in range(nax):
             ka = i0 + a - k0

@@ -20,7 +20,7 @@ DEFAULTS: dict = {
     "damping": "grid",       # grid | kinetic | none
     "alpha": None,           # grid damping (1/s); None = 2 omega_1 (critical for the estimated lowest mode)
     "pic": 0.0,              # PIC fraction blended into the FLIP update (0 = pure FLIP)
-    "update": "usl",         # usl | musl | usf (stress update scheme; musl for boundaries cutting cells)
+    "update": "auto",        # auto | usl | musl | usf (auto: usl when every body edge lies on grid lines, else musl)
     "ramp_time": None,       # s; default: the traction ramp_time, else one estimated period T1
     "max_time": None,        # s; default ramp + 40 T1
     "tol": 1e-6,             # stop when kinetic / (strain + interface) energy < tol over T1/2 after the ramp
@@ -61,8 +61,8 @@ def merge(case, overrides: dict) -> dict:
         opts["alpha"] = check_number("mpm option alpha", opts["alpha"], low=0)
     opts["pic"] = check_number("mpm option pic", opts["pic"], low=0, high=1)
     upd = str(opts["update"]).lower()
-    if upd not in ("usl", "usf", "musl"):
-        raise CaseError(f"mpm option update must be 'musl', 'usl' or 'usf', got {opts['update']!r}")
+    if upd not in ("auto", "usl", "usf", "musl"):
+        raise CaseError(f"mpm option update must be 'auto', 'usl', 'musl' or 'usf', got {opts['update']!r}")
     opts["update"] = upd
     for key in ("ramp_time", "max_time"):
         if opts[key] is not None:

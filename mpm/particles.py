@@ -151,8 +151,10 @@ def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
         share *= length / share.sum()
         total = traction * length * thickness
         particles.fext[idx] += np.outer(share * thickness, traction)
-        # the force acts on the particle's edge on that side (half a spacing outward)
-        particles.foff[idx] = normal * (0.5 * float(np.abs(normal) @ particles.spacing))
+        # the force acts on the particle's edge on that side (half a spacing outward) when
+        # the side is aligned with the grid axes; otherwise at the particle (S_ip weights)
+        if np.count_nonzero(np.abs(normal) > 1e-12) == 1:
+            particles.foff[idx] = normal * (0.5 * float(np.abs(normal) @ particles.spacing))
         loads.append({"particles": idx, "force": total, "ramp_time": bc.ramp_time,
                       "body": bc.body, "side": bc.side})
     return loads

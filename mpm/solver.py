@@ -76,6 +76,8 @@ class Model:
             raise CaseError(f"mpm option alpha = {self.alpha:g} 1/s is too large for dt = {self.dt:g} s "
                             "(alpha dt must be <= 0.5): lower alpha")
         self.bcs = nodal_conditions(case, self.grid, self.ramp_time)
+        if opts["update"] == "auto":
+            opts["update"] = "usl" if _grid_aligned(case, self.grid) else "musl"
         self.tables = None
         self.node_out = None
         if self.M > 1:
@@ -84,13 +86,30 @@ class Model:
             self.node_out = np.zeros((self.grid.N, mm.NODE_OUT_COLUMNS))
 
 
+def _grid_aligned(case, grid: Grid) -> bool:
+    """True when every body is an unrotated rectangle without holes whose edges lie on
+    grid lines. Then no body boundary cuts a cell and USL is exact for uniform states;
+    otherwise nodes holding only particle tails appear along the boundary and MUSL
+    (stress from re-extrapolated particle momenta) is needed for stability."""
+    for body in case.bodies:
+        shape = body.shape
+        if type(shape).__name__ not in ("Rectangle", "Box") or body.holes \
+                or abs(getattr(shape, "angle", 0.0)) > 0.0:
+            return False
+        for corner in shape.bounds():
+            q = (np.asarray(corner, float) - grid.origin) / grid.cell
+            if np.any(np.abs(q - np.round(q)) > 1e-9):
+                return False
+    return True
+
+
 def solve(case, **options) -> Result:
     """Run explicit multimaterial MPM on ``case`` and return a :class:`interfaces.Result`.
 
     Options (defaults in :data:`mpm.options.DEFAULTS`, then ``case.discretization['mpm']``,
     then these keywords): ``cell`` (mm), ``ppc``, ``shape`` (ugimp/linear), ``cfl`` or
     ``dt``, ``damping`` (grid/kinetic/none) and ``alpha``, ``pic``, ``update``
-    (usl/usf), ``ramp_time``, ``max_time``, ``tol``, ``vtk_dir``, ``progress``; the
+    (auto/usl/musl/usf), ``ramp_time``, ``max_time``, ``tol``, ``vtk_dir``, ``progress``; the
     multimaterial options of :data:`mpm.multimaterial.DEFAULT_OPTIONS` (normal,
     separation, area_correction, h_perp, force_limiting, edge_cutoff, default_law, ...).
     Quantities: stiffness (002 Eq 43), stiffness_energy (Eq 45), strain_energy,
@@ -323,7 +342,8 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
         "time_steps": run.steps, "dt": model.dt, "time": run.t, "ramp_time": model.ramp_time,
         "max_time": model.max_time, "T1_estimate": model.T1, "alpha": model.alpha,
         "particles": pt.P, "nodes": model.grid.N, "cell": model.grid.cell.tolist(),
-        "ppc": opts["ppc"], "shape": opts["shape"], "stopped_by": run.stopped_by,
+        "ppc": opts["ppc"], "shape": opts["shape"], "update": opts["update"],
+        "damping": opts["damping"], "stopped_by": run.stopped_by,
         "history": {name: col[::step].tolist() for name, col in zip(HIST_COLUMNS, _cumulative(hist).T)},
         "warnings": list(res.diagnostics.get("warnings", [])) + run.warnings,
     })

@@ -205,3 +205,31 @@ def test_unequal_cell_sizes_give_the_same_static_answer():
     np.testing.assert_allclose(u[:, 0], eps * X[:, 0], atol=5e-4 * eps * L)
     np.testing.assert_allclose(u[:, 1], -NU * eps * X[:, 1], atol=5e-4 * eps * L)
     assert r.diagnostics["cell"] == [0.5, 0.25]
+
+
+def test_rotated_bar_cutting_cells_stays_stable_and_near_uniaxial():
+    """A bar rotated by 30 deg cuts grid cells; its boundary nodes hold only particle
+    tails. ``update='auto'`` picks MUSL there (USL diverges on such nodes) and the
+    tractions act through the particles' own weights. Free-floating bar pulled at both
+    ends: the stress in the bar frame is uniaxial sigma, the strain energy sigma^2/(2E) V.
+    Observed at 0.5 mm cells: stress median within 0.5 %, energy +0.6 %.
+    """
+    ang = math.radians(30.0)
+    t = (SIGMA * math.cos(ang), SIGMA * math.sin(ang))
+    case = Case(name="rbar", analysis="plane_stress", thickness=T,
+                materials={"m": IsotropicElastic(E=E, nu=NU, rho=RHO)},
+                bodies=[Body("a", Rectangle(0, 0, L, H, angle=30.0), "m")],
+                boundary_conditions=[
+                    BoundaryCondition("traction", "a", "xmin", ("x", "y"), (-t[0], -t[1])),
+                    BoundaryCondition("traction", "a", "xmax", ("x", "y"), t)])
+    r = _solve(case, max_time=1e-3)
+    assert r.diagnostics["update"] == "musl"
+    s = r.fields["stress"]
+    R = np.array([[math.cos(ang), -math.sin(ang)], [math.sin(ang), math.cos(ang)]])
+    S = np.zeros((len(s), 2, 2))
+    S[:, 0, 0], S[:, 1, 1] = s[:, 0], s[:, 1]
+    S[:, 0, 1] = S[:, 1, 0] = s[:, 2]
+    local = np.einsum("ji,pjk,kl->pil", R, S, R)
+    assert np.median(local[:, 0, 0]) == pytest.approx(SIGMA, rel=1e-2)
+    assert abs(np.median(local[:, 1, 1])) < 1e-2 * SIGMA
+    assert r.quantities["strain_energy"] == pytest.approx(0.5 * SIGMA ** 2 / E * L * H * T, rel=2e-2)
