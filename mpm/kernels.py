@@ -124,8 +124,6 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
         V = pvol[p]
         mvx = m * v[p, 0]
         mvy = m * v[p, 1]
-        fx = fext[p, 0] * load_scale
-        fy = fext[p, 1] * load_scale
         if internal:
             sxx = stress[p, 0]
             syy = stress[p, 1]

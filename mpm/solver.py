@@ -251,14 +251,13 @@ class _Runner:
         next_frame = vtk_every if vtk_every else total_steps + 1
         if vtk_every:
             self._frame()
-        cum_work = cum_diss = 0.0
+        cum_work = 0.0
         while self.steps < total_steps:
             n = min(interval, total_steps - self.steps, next_frame - self.steps)
             h = self._advance(n)
             self.hist_chunks.append(h)
             cum_work += h[:, 3].sum() + h[:, 5].sum()
-            cum_diss += h[:, 4].sum()
-            ke, U, ui = h[-1, 1], h[-1, 2], h[-1, 6]
+            U, ui = h[-1, 2], h[-1, 6]
             if not (np.all(np.isfinite(h[:, 1:])) and math.isfinite(cum_work)):
                 raise SolverError(self._diverged("energies became NaN/inf"))
             scale = abs(cum_work) + 1e-12 * (1.0 + U)

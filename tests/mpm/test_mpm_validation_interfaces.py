@@ -65,9 +65,14 @@ def test_two_layer_shear_energies_match_fem():
 @pytest.mark.slow
 @pytest.mark.parametrize("Dt", [2.0, 5.0, 50.0, math.inf])
 def test_paper_dls_stiffness_over_dt(Dt):
-    """002 Sec 3.1 DLS (l = 25, L = 5, t = 0.6, W = 10) at 0.2 mm cells vs FEM / shear lag."""
+    """002 Sec 3.1 DLS (l = 25, L = 5, t = 0.6, W = 10) at 0.2 mm cells vs FEM / shear lag.
+
+    Observed: MPM 0.15-0.3 % above quadratic FEM for Dt = 2, 5, 50, inf, and within
+    0.4 % of the shear-lag model (002 Fig 5 agreement).
+    """
     case = dls(Dt=Dt, mpm_cell=0.2)
     rm = mpm.solve(case, ramp_time=1e-4, progress=False)
     k_fem = fem.solve(case).quantities["stiffness"]
-    assert rm.quantities["stiffness"] == pytest.approx(k_fem, rel=1.5e-2)
-    assert rm.quantities["stiffness"] == pytest.approx(_shear_lag(case), rel=2e-2)
+    assert rm.quantities["stiffness"] == pytest.approx(k_fem, rel=1e-2)
+    assert rm.quantities["stiffness_energy"] == pytest.approx(k_fem, rel=1e-2)
+    assert rm.quantities["stiffness"] == pytest.approx(_shear_lag(case), rel=1e-2)
