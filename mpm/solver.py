@@ -87,19 +87,34 @@ class Model:
 
 
 def _grid_aligned(case, grid: Grid) -> bool:
-    """True when every body is an unrotated rectangle without holes whose edges lie on
-    grid lines. Then no body boundary cuts a cell and USL is exact for uniform states;
+    """True when every body is an unrotated rectangle without holes whose exterior
+    edges lie on grid lines (an edge shared with another body is interior and may sit
+    anywhere). Then no free boundary cuts a cell and USL is exact for uniform states;
     otherwise nodes holding only particle tails appear along the boundary and MUSL
     (stress from re-extrapolated particle momenta) is needed for stability."""
-    for body in case.bodies:
+    h = float(np.min(grid.cell))
+    for k, body in enumerate(case.bodies):
         shape = body.shape
         if type(shape).__name__ not in ("Rectangle", "Box") or body.holes \
                 or abs(getattr(shape, "angle", 0.0)) > 0.0:
             return False
-        for corner in shape.bounds():
-            q = (np.asarray(corner, float) - grid.origin) / grid.cell
-            if np.any(np.abs(q - np.round(q)) > 1e-9):
-                return False
+        lo, hi = (np.asarray(b, float) for b in shape.bounds())
+        for d in range(grid.D):
+            for value, outward in ((lo[d], -1.0), (hi[d], 1.0)):
+                q = (value - grid.origin[d]) / grid.cell[d]
+                if abs(q - round(q)) <= 1e-9:
+                    continue
+                # off the grid lines: allowed only if the side is covered by other bodies
+                t = np.linspace(0.05, 0.95, 7)
+                pts = lo + np.outer(t, hi - lo) if grid.D == 2 else \
+                    lo + np.stack(np.meshgrid(t, t, t, indexing="ij"), -1).reshape(-1, 3) * (hi - lo)
+                pts[:, d] = value + outward * 1e-6 * h
+                covered = np.zeros(len(pts), bool)
+                for j, other in enumerate(case.bodies):
+                    if j != k:
+                        covered |= other.contains(pts)
+                if not covered.all():
+                    return False
     return True
 
 
