@@ -191,6 +191,15 @@ class _Runner:
         thick = m.case.thickness
         vel = np.empty_like(bc.vel)
         with_interface = m.tables.has_interfaces
+        uses_lr = m.tables.uses_lr
+        if uses_lr:
+            # particle radii R_0 = half the particle spacing (004 Eq 25; small strain, so
+            # the undeformed ellipse); node arrays reused every step
+            half_width = 0.5 * pt.spacing
+            mass_tol = float(m.tables.settings[mm.S_MASS_TOL])
+            lr_out = (np.zeros((g.N, m.M, g.D)), np.zeros((g.N, m.M)))
+        else:
+            half_width = mass_tol = lr_out = None
         t = self.t
         for s in range(nsteps):
             scale = K.ramp(t, m.ramp_time)
@@ -201,11 +210,18 @@ class _Runner:
                             nd.displacement, nd.position)
             if lost >= 0:
                 return s, lost
-            multi = K.multimaterial_nodes(nd.mass).size > 0
+            nodes = K.multimaterial_nodes(nd.mass)
+            multi = nodes.size > 0
             args = (nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
                     nd.displacement, nd.position, g.cell, m.tables, m.dt, thick)
+            lr = None
+            if multi and uses_lr:
+                # 004 Eq 19-25: LR normals and separations from this step's particle cloud
+                lr = mm.lr_normals_separations(pt.x, pt.field, half_width, g.origin, g.cell,
+                                               g.nn, nd.mass, nodes, mass_tolerance=mass_tol,
+                                               out=lr_out)
             if multi:
-                mm.correct_momentum(0, *args)
+                mm.correct_momentum(0, *args, lr=lr, nodes=nodes)
             if mode == K.USF:
                 K.stress_from_grid_2d(pt.x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                                       m.C, g.origin, g.cell, g.nn, pt.lp, m.kind, m.dt, nd.mass,
@@ -217,13 +233,13 @@ class _Runner:
                 u_int = mm.add_interface_forces(nd.mass, nd.momentum, nd.volume,
                                                 nd.volume_gradient, nd.displacement, nd.position,
                                                 g.cell, thick, m.tables, m.dt, nd.force,
-                                                m.node_out)
+                                                m.node_out, lr=lr, nodes=nodes)
             for b in range(bc.size):
                 vel[b] = bc.vel[b] if t < bc.t_end[b] else 0.0
             diss, wbc = K.grid_update(nd.mass, nd.momentum, nd.force, m.dt, m.alpha,
                                       bc.node, bc.field, bc.comp, vel)
             if multi:
-                mm.correct_momentum(1, *args)
+                mm.correct_momentum(1, *args, lr=lr, nodes=nodes)
             ke_grid = K.nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity,
                                          nd.acceleration)
             ke, U, work, lost = K.g2p_2d(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
@@ -237,7 +253,13 @@ class _Runner:
                                   m.kind, nd.mass, nd.momentum)
                 K.set_velocity_bc(nd.mass, nd.momentum, bc.node, bc.field, bc.comp, vel)
                 if multi:
-                    mm.correct_momentum(0, *args)
+                    # re-extrapolated masses may cover other nodes; LR arrays are per node
+                    nodes = K.multimaterial_nodes(nd.mass)
+                    if uses_lr and nodes.size:
+                        lr = mm.lr_normals_separations(pt.x, pt.field, half_width, g.origin,
+                                                       g.cell, g.nn, nd.mass, nodes,
+                                                       mass_tolerance=mass_tol, out=lr_out)
+                    mm.correct_momentum(0, *args, lr=lr, nodes=nodes)
                 U = K.stress_from_grid_2d(pt.x, pt.volume, pt.volume0, pt.stress, pt.strain,
                                           pt.field, m.C, g.origin, g.cell, g.nn, pt.lp, m.kind,
                                           m.dt, nd.mass, nd.momentum)
