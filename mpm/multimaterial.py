@@ -60,6 +60,7 @@ from mpm.multimaterial_normals import (  # noqa: F401  (re-exported public norma
 
 __all__ = [
     "MultimaterialTables", "build_pair_tables", "correct_momentum", "add_interface_forces",
+    "apply_velocity_conditions",
     "empty_lr_arrays", "lr_normals_separations", "DEFAULT_OPTIONS", "NODE_OUT_COLUMNS",
     "normal_sn", "normal_mvg", "normal_avg", "normal_ag", "normal_rmvg", "h_perp",
 ]
@@ -413,3 +414,26 @@ def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndar
         tables.law_params, tables.settings, tables.rigid, tables.node_zone, tables.zone_pairs,
         tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt), force, node_out,
         _node_list(nodes, n))
+
+
+def apply_velocity_conditions(mass: np.ndarray, momentum: np.ndarray, force: np.ndarray,
+                              tables: MultimaterialTables, dt: float, bc_node: np.ndarray,
+                              bc_field: np.ndarray, bc_comp: np.ndarray, bc_vel: np.ndarray,
+                              with_force: bool = True) -> float:
+    """Re-impose nodal velocity / fixed conditions after :func:`correct_momentum`.
+
+    The phase-1 correction runs after the core's boundary conditions (mpm/LAYOUT.md step
+    5) and would move a constrained field that is perfectly bonded to a free one.  Each
+    condition (node ``bc_node``, field ``bc_field``, component ``bc_comp``, velocity
+    ``bc_vel``) is set again on its field and on every field perfectly bonded to it at
+    that node (pair or zone law ``perfect``); ``with_force`` also adds the reaction
+    (p_bc - p)/dt to ``force``.  Imperfect pairs with one perfect (inf) direction keep
+    their own momentum correction (the condition then acts on the named field only).
+    Returns the work of the added reactions this step (mm N).
+    """
+    n, m, d = _check_arrays(tables, np.zeros(momentum.shape[2]), mass=mass,
+                            momentum=momentum, force=force)
+    return _k.bonded_velocity_bc_kernel(
+        mass, momentum, force, bc_node, bc_field, bc_comp, bc_vel, tables.law_kind,
+        tables.law_params, tables.settings, tables.node_zone, tables.zone_pairs,
+        tables.zone_kind, tables.zone_params, float(dt), bool(with_force))

@@ -601,3 +601,49 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
             for k in range(d):
                 force[i, c, k] += fadd[c, k]
     return total
+
+
+# ---------------------------------------------------------------------------
+# nodal velocity conditions after the contact corrections
+# ---------------------------------------------------------------------------
+@njit(cache=True)
+def bonded_velocity_bc_kernel(mass, momentum, force, bc_node, bc_field, bc_comp, bc_vel,
+                              kind, params, settings, node_zone, zone_pairs, zone_kind,
+                              zone_params, dt, with_force):
+    """Re-impose nodal velocity conditions after a momentum correction.
+
+    Condition b prescribes v_bc on field f at node n.  The correction may have moved
+    that field (perfect bond to the centre of mass, 000 Eq 7-8), so it is reset, and
+    so is every other field present at n that is perfectly bonded to f there: a bonded
+    node is one continuum point, which the condition holds (a body split by a perfect
+    interface then equals the uncut body, 004 Eq 34).  p = m v_bc; with ``with_force``
+    the reaction (p_bc - p)/dt is also added to ``force`` (keeps a = f/m consistent with
+    the momentum change for FLIP).  Returns the work of these reactions this step."""
+    n_nodes, m = mass.shape
+    tol = settings[S_MASS_TOL]
+    law = np.empty(4)
+    work = 0.0
+    for b in range(bc_node.shape[0]):
+        i = bc_node[b]
+        f = bc_field[b]
+        d = bc_comp[b]
+        if not (mass[i, f] > 0.0):
+            continue
+        mtot = 0.0
+        for k in range(m):
+            mtot += mass[i, k]
+        for g in range(m):
+            mg = mass[i, g]
+            if g != f:
+                if not (mg > 0.0 and mg > tol * mtot):
+                    continue
+                if _pair_law(i, f, g, kind, params, node_zone, zone_pairs, zone_kind,
+                             zone_params, law) != LAW_PERFECT:
+                    continue
+            pn = mg * bc_vel[b]
+            if with_force:
+                reaction = (pn - momentum[i, g, d]) / dt
+                force[i, g, d] += reaction
+                work += reaction * bc_vel[b] * dt
+            momentum[i, g, d] = pn
+    return work

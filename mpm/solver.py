@@ -240,6 +240,11 @@ class _Runner:
                                       bc.node, bc.field, bc.comp, vel)
             if multi:
                 mm.correct_momentum(1, *args, lr=lr, nodes=nodes)
+                if bc.size:
+                    # a bonded node must keep its condition after the phase-1 correction
+                    wbc += mm.apply_velocity_conditions(nd.mass, nd.momentum, nd.force,
+                                                        m.tables, m.dt, bc.node, bc.field,
+                                                        bc.comp, vel)
             ke_grid = K.nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity,
                                          nd.acceleration)
             ke, U, work, lost = K.g2p_2d(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
@@ -260,6 +265,10 @@ class _Runner:
                                                        g.cell, g.nn, nd.mass, nodes,
                                                        mass_tolerance=mass_tol, out=lr_out)
                     mm.correct_momentum(0, *args, lr=lr, nodes=nodes)
+                    if bc.size:
+                        mm.apply_velocity_conditions(nd.mass, nd.momentum, nd.force, m.tables,
+                                                     m.dt, bc.node, bc.field, bc.comp, vel,
+                                                     with_force=False)
                 U = K.stress_from_grid_2d(pt.x, pt.volume, pt.volume0, pt.stress, pt.strain,
                                           pt.field, m.C, g.origin, g.cell, g.nn, pt.lp, m.kind,
                                           m.dt, nd.mass, nd.momentum)
