@@ -42,17 +42,24 @@ class Grid:
         return float(np.prod(self.cell))
 
     @classmethod
-    def around(cls, lo, hi, cell, padding: int = 3) -> "Grid":
-        """Grid covering the box [lo, hi] with ``padding`` empty cells on every side.
+    def around(cls, lo, hi, cell, padding: int = 3, anchor=None) -> "Grid":
+        """Grid covering the box [lo, hi] with at least ``padding`` empty cells on every side.
 
-        Node lines pass through ``lo`` so that body edges aligned with ``lo`` lie on
-        grid lines (boundary conditions are applied on those node lines).
+        Node lines pass through ``anchor`` (default ``lo``, so that body edges aligned
+        with ``lo`` lie on grid lines, where boundary conditions are applied). A fixed
+        anchor such as the coordinate origin gives a grid fixed in space, so that moving
+        a specimen moves it relative to the grid (000 Fig 8, interface at mid-cell).
         """
         lo = np.asarray(lo, float)
         hi = np.asarray(hi, float)
         cell = np.broadcast_to(np.asarray(cell, float), lo.shape).copy()
-        ncell = np.ceil((hi - lo) / cell - 1e-9).astype(np.int64)
-        origin = lo - padding * cell
+        if anchor is None:
+            start = lo
+        else:
+            anchor = np.broadcast_to(np.asarray(anchor, float), lo.shape)
+            start = anchor + np.floor((lo - anchor) / cell + 1e-9) * cell
+        ncell = np.ceil((hi - start) / cell - 1e-9).astype(np.int64)
+        origin = start - padding * cell
         nn = ncell + 2 * padding + 1
         return cls(origin, cell, nn)
 

@@ -25,6 +25,7 @@ DEFAULTS: dict = {
     "max_time": None,        # s; default ramp + 40 T1
     "tol": 1e-6,             # stop when kinetic / (strain + interface) energy < tol over T1/2 after the ramp
     "padding": 3,            # empty cells around the bodies
+    "grid_anchor": "bounds",  # node lines through: bounds (lower corner of the case) | origin | [x, y]
     "progress": None,        # None = auto (runs longer than ~5 s), True / False
     "vtk_dir": None,         # write a VTU series + .pvd there
     "vtk_frames": 20,        # number of VTU frames over the run
@@ -73,6 +74,25 @@ def merge(case, overrides: dict) -> dict:
     opts["blowup"] = check_number("mpm option blowup", opts["blowup"], low=1, low_open=True)
     opts["history_points"] = int(check_number("mpm option history_points", opts["history_points"],
                                               low=10, high=1e7))
+    opts["grid_anchor"] = _anchor(opts["grid_anchor"], D)
     if opts["max_time"] is not None and not math.isfinite(opts["max_time"]):
         raise CaseError("mpm option max_time must be finite")
     return opts
+
+
+def _anchor(value, D: int):
+    """grid_anchor -> None (lower corner of the case bounds) or a point (D,)."""
+    if isinstance(value, str):
+        key = value.lower()
+        if key == "bounds":
+            return None
+        if key == "origin":
+            return np.zeros(D)
+    elif value is not None:
+        arr = np.asarray(value, float) if np.ndim(value) else np.full(D, float(value))
+        if arr.shape == (D,) and np.all(np.isfinite(arr)):
+            return arr
+    elif value is None:
+        return None
+    raise CaseError(f"mpm option grid_anchor must be 'bounds', 'origin' or a point of {D} "
+                    f"finite coordinates (mm) that node lines pass through, got {value!r}")

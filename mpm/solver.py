@@ -48,7 +48,7 @@ class Model:
         self.case = case
         self.opts = opts
         lo, hi = case.bounds()
-        self.grid = Grid.around(lo, hi, opts["cell"], opts["padding"])
+        self.grid = Grid.around(lo, hi, opts["cell"], opts["padding"], opts["grid_anchor"])
         self.kind = SHAPE_CODES[opts["shape"]]
         self.particles = generate(case, self.grid, opts["ppc"])
         if self.kind == SHAPE_CODES["linear"]:
