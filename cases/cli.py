@@ -113,7 +113,8 @@ def cmd_sweep(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     sw.to_json(out / "sweep.json")
     sw.to_csv(out / "sweep.csv")
-    png = plot_sweep(sw, out / f"{args.case}_sweep_{args.param}.png", x_transform=args.x)
+    wanted = [q.strip() for q in args.quantities.split(",")] if args.quantities else None
+    png = plot_sweep(sw, out / f"{args.case}_sweep_{args.param}.png", x_transform=args.x, quantities=wanted)
     for q in sw.quantity_names():
         print(f"{q}:")
         print(f"  {args.param:>10} " + "".join(f"{m:>14}" for m in sw.methods))
@@ -148,6 +149,7 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--option", action="append", metavar="METHOD.KEY=VALUE")
     w.add_argument("--workers", type=int, default=None)
     w.add_argument("--dask", default=None, metavar="ADDRESS", help="send the runs to a Dask scheduler")
+    w.add_argument("--quantities", default=None, help="comma list of quantities to plot (default: shared ones)")
     w.add_argument("--x", choices=["linear", "inverse", "log"], default="linear", help="x axis of the plot")
     w.add_argument("--out", default="out")
     return p

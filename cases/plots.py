@@ -140,13 +140,34 @@ def plot_comparison(comparison, path) -> Path:
     return path
 
 
-def plot_sweep(sweep, path, x_transform: str | None = None) -> Path:
+def sweep_quantities(sweep) -> list[str]:
+    """Quantities worth a panel: given by two or more methods (or all of a single
+    method's headline quantities) and not constant over the sweep."""
+    def values(q, m):
+        v = np.array([sweep.value(i, m, q) for i in range(len(sweep.values))], dtype=float)
+        return v[np.isfinite(v)]
+
+    out = []
+    for q in sweep.quantity_names():
+        having = [m for m in sweep.methods if values(q, m).size]
+        if len(sweep.methods) > 1 and len(having) < 2:
+            continue
+        if len(sweep.methods) == 1 and q not in HEADLINE:
+            continue
+        allv = np.concatenate([values(q, m) for m in having])
+        if np.ptp(allv) <= 1e-9 * max(np.abs(allv).max(), 1e-300):
+            continue
+        out.append(q)
+    return out
+
+
+def plot_sweep(sweep, path, x_transform: str | None = None, quantities=None) -> Path:
     """Each quantity against the swept parameter, one curve per method.
 
     ``x_transform="inverse"`` plots against 1/value (e.g. stiffness vs 1/Dt as 000 Fig 7
     and 002 Fig 5); infinite values then sit at 0.
     """
-    quantities = sweep.quantity_names()
+    quantities = list(quantities) if quantities else sweep_quantities(sweep)
     n = max(1, len(quantities))
     ncol = min(2, n)
     nrow = math.ceil(n / ncol)
