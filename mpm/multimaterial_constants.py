@@ -81,3 +81,4 @@ STATUS_LIMITED_N = 2.0      # normal force capped by 000 Eq 26 (perfect this ste
 STATUS_LIMITED_T = 4.0      # tangential force capped by 000 Eq 26
 STATUS_SCREENED = 8.0       # edge node skipped (000 Sec 3, Omega_i < cutoff)
 STATUS_CONTACT = 16.0       # normal closed (compression branch / contact)
+STATUS_OVER_LIMIT = 32.0    # force_limiting off and the force exceeded 000 Eq 26 (unstable)

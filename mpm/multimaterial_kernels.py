@@ -18,7 +18,7 @@ from mpm.multimaterial_constants import (
     OUT_JUMP_N, OUT_JUMP_T, OUT_NX, OUT_STATUS, OUT_TRACTION_N, OUT_TRACTION_T,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
-    S_SEPARATION, S_SN_X, SEP_LR, SEP_OFFSET, STATUS_CONTACT,
+    S_SEPARATION, S_SN_X, SEP_LR, SEP_OFFSET, STATUS_CONTACT, STATUS_OVER_LIMIT,
     STATUS_INTERFACE, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_SCREENED,
 )
 from mpm.multimaterial_normals import (
@@ -309,7 +309,7 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
     touched = np.zeros(m, dtype=np.bool_)
     law = np.empty(4)
     one = np.empty(d)
-    work = np.empty((12, d))
+    work = np.empty((13, d))
     inv_dt = 1.0 / dt if dt > 0.0 else 0.0
     count = 0
     for ii in range(nodes.shape[0]):
@@ -420,6 +420,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
     ft = work[8]
     fmax = work[9]
     fmt = work[10]
+    fstick = work[11]
     xfield = pos if int(settings[S_SEPARATION]) == SEP_OFFSET else disp
     m_b, om_b = _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
                           p_b, f_b, g_b, x_b)
@@ -456,8 +457,20 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
         status += STATUS_CONTACT
     e_n = 0.5 * dn_stiff * dn * dn * area if n_finite else 0.0
     e_t = 0.5 * dt_stiff * _dot(jt, jt) * area if t_finite else 0.0
-    if settings[S_FORCE_LIMIT] != 0.0 and dt > 0.0:
-        # 000 Eq 26-27: the force that brings a and b to the centre-of-mass position
+    if dt > 0.0:
+        # 000 Eq 26-27: the force that brings a and b to the centre-of-mass position at
+        # the end of the step.  Eq 26 is derived for the midpoint position update of
+        # Eq 23-25 (u+ = u + dt (p + dt f / 2) / m), which gives the factors 2.  This
+        # MPM moves particles with the updated velocity (u+ = u + dt (p + dt f) / m,
+        # G2P in mpm/LAYOUT.md), for which the same condition gives
+        # f_max = m_red [u] / dt^2 + Delta p / dt + Delta f; with the printed factors
+        # the capped force overshoots the centre of mass and the relative motion grows
+        # by 1 + sqrt(2) per step (stiff interfaces diverge even with limiting).
+        # A direction whose force exceeds that bound becomes stick contact with zero
+        # energy (000 after Eq 27): the applied force only equalises the velocities,
+        # f_stick = Delta p / dt + Delta f, as the momentum correction of a perfect
+        # direction does (applying f_max itself feeds the jump back at the stability
+        # limit and diverged on DLS at Dn = Dt = 1e5).
         if rigid_b:
             m_red = m_a
         else:
@@ -469,20 +482,30 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
             else:
                 dp0 = m_red * (p_b[k] / m_b - mom[i, a, k] / m_a)
                 dfk = (m_a * f_b[k] - m_b * force[i, a, k]) / (m_a + m_b)
-            fmax[k] = 2.0 * m_red / (dt * dt) * jump[k] + 2.0 * dp0 / dt + dfk
+            fmax[k] = m_red / (dt * dt) * jump[k] + dp0 / dt + dfk
+            fstick[k] = dp0 / dt + dfk
         fmax_n = _dot(fmax, n)
-        if n_finite and abs(fn) > abs(fmax_n):
-            fn = fmax_n
+        for k in range(d):
+            fmt[k] = fmax[k] - fmax_n * n[k]
+        over_n = n_finite and abs(fn) > abs(fmax_n)
+        over_t = t_finite and _dot(ft, ft) > _dot(fmt, fmt)
+        if settings[S_FORCE_LIMIT] == 0.0:
+            # no limiting: flag the node, the caller warns (explicit instability)
+            if over_n or over_t:
+                status += STATUS_OVER_LIMIT
+            over_n = False
+            over_t = False
+        if over_n:
+            # limited direction -> stick (velocity-equalising force, zero energy)
+            fn = _dot(fstick, n)
             e_n = 0.0
             status += STATUS_LIMITED_N
-        if t_finite:
+        if over_t:
+            fsn = _dot(fstick, n)
             for k in range(d):
-                fmt[k] = fmax[k] - fmax_n * n[k]
-            if _dot(ft, ft) > _dot(fmt, fmt):
-                for k in range(d):
-                    ft[k] = fmt[k]
-                e_t = 0.0
-                status += STATUS_LIMITED_T
+                ft[k] = fstick[k] - fsn * n[k]
+            e_t = 0.0
+            status += STATUS_LIMITED_T
     for k in range(d):
         f_out[k] = fn * n[k] + ft[k]
     energy = e_n + e_t
@@ -521,7 +544,7 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
     fadd = np.zeros((m, d))
     law = np.empty(4)
     one = np.empty(d)
-    work = np.empty((12, d))
+    work = np.empty((13, d))
     total = 0.0
     for ii in range(nodes.shape[0]):
         i = nodes[ii]

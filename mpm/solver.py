@@ -31,6 +31,10 @@ from .progress import ProgressBar
 from .shape import SHAPE_CODES
 from .vtk import write_vtk_series
 
+from .multimaterial_constants import OUT_STATUS, S_FORCE_LIMIT, STATUS_OVER_LIMIT
+
+_OVER_LIMIT = int(STATUS_OVER_LIMIT)
+
 HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc", "interface",
                 "kinetic_grid")
 
@@ -84,6 +88,8 @@ class Model:
             from . import multimaterial as mm
             self.tables = mm.build_pair_tables(case, opts, node_coordinates=self.grid.node_positions())
             self.node_out = np.zeros((self.grid.N, mm.NODE_OUT_COLUMNS))
+        self.force_limiting = self.tables is None or \
+            bool(self.tables.settings[S_FORCE_LIMIT] != 0.0)
 
 
 def _grid_aligned(case, grid: Grid) -> bool:
@@ -154,6 +160,9 @@ class _Runner:
         self.frames = []
         self.warnings: list[str] = []
         self.stopped_by = "max_time"
+        # force_limiting off: (steps with a node above the 000 Eq 26 bound, most such
+        # nodes in one step, first time)
+        self.over_limit = [0, 0, -1.0]
 
     # -- one interval ----------------------------------------------------------
     def _advance(self, nsteps: int) -> np.ndarray:
@@ -180,7 +189,7 @@ class _Runner:
             raise SolverError(f"mpm: particle {lost} left the background grid at t = {self.t:.4g} s "
                               f"(step {self.steps}): the run is unstable or deforms beyond the "
                               "grid; reduce the time step (cfl), increase damping or lower Dn, "
-                              "or increase the padding option")
+                              "or increase the padding option" + self._advice())
         return hist[:done]
 
     def _advance_multimaterial(self, nsteps, hist, mode, kinetic):
@@ -192,6 +201,7 @@ class _Runner:
         vel = np.empty_like(bc.vel)
         with_interface = m.tables.has_interfaces
         uses_lr = m.tables.uses_lr
+        check_limit = with_interface and not m.force_limiting
         if uses_lr:
             # particle radii R_0 = half the particle spacing (004 Eq 25; small strain, so
             # the undeformed ellipse); node arrays reused every step
@@ -234,6 +244,14 @@ class _Runner:
                                                 nd.volume_gradient, nd.displacement, nd.position,
                                                 g.cell, thick, m.tables, m.dt, nd.force,
                                                 m.node_out, lr=lr, nodes=nodes)
+                if check_limit:
+                    over = int(np.count_nonzero(
+                        m.node_out[nodes, OUT_STATUS].astype(np.int64) & _OVER_LIMIT))
+                    if over:
+                        self.over_limit[0] += 1
+                        self.over_limit[1] = max(self.over_limit[1], over)
+                        if self.over_limit[2] < 0:
+                            self.over_limit[2] = t
             for b in range(bc.size):
                 vel[b] = bc.vel[b] if t < bc.t_end[b] else 0.0
             diss, wbc = K.grid_update(nd.mass, nd.momentum, nd.force, m.dt, m.alpha,
@@ -324,6 +342,8 @@ class _Runner:
             self.warnings.append(
                 f"mpm: reached max_time = {m.max_time:.4g} s before kinetic energy fell below "
                 f"tol = {m.opts['tol']:g} x stored energy; increase max_time or damping")
+        if self.over_limit[0]:
+            self.warnings.append(self._over_limit_text())
         if vtk_every and self.frames and self.frames[-1][0] < self.t:
             self._frame()
 
@@ -340,10 +360,27 @@ class _Runner:
         stored = recent[-1, 2] + recent[-1, 6]
         return stored > 0 and recent[:, 7].max() < self.m.opts["tol"] * stored
 
+    def _over_limit_text(self) -> str:
+        n_steps, n_max, t0 = self.over_limit
+        return (f"mpm: force_limiting is off and imperfect-interface forces exceeded the "
+                f"stability bound of 000 Eq 26 (the force that brings both fields to their "
+                f"centre of mass in one step) on {n_steps} steps (up to {n_max} nodes, first "
+                f"at t = {t0:.4g} s): the explicit interface is unstable there and the "
+                "results are unreliable; enable force_limiting, lower Dn/Dt or reduce dt (cfl)")
+
+    def _advice(self) -> str:
+        if self.m.tables is not None and self.m.tables.has_interfaces and not self.m.force_limiting:
+            extra = f" ({self._over_limit_text()})" if self.over_limit[0] else ""
+            return ("; the interface is stiff for explicit integration without force "
+                    "limiting: enable force_limiting (000 Eq 23-27), lower Dn/Dt or reduce "
+                    f"dt (cfl){extra}")
+        return ""
+
     def _diverged(self, what: str) -> str:
         return (f"mpm diverged at t = {self.t:.4g} s (step {self.steps}): {what}. Reduce the "
                 f"time step (cfl, now dt = {self.m.dt:.3g} s), increase damping (alpha = "
-                f"{self.m.alpha:.3g} 1/s) or lower the interface stiffness Dn/Dt")
+                f"{self.m.alpha:.3g} 1/s) or lower the interface stiffness Dn/Dt"
+                + self._advice())
 
     def _frame(self) -> None:
         pt = self.m.particles

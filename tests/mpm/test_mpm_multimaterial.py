@@ -20,7 +20,7 @@ from mpm import multimaterial as mm
 from mpm.shape import SHAPE_CODES, shape_2d
 from mpm.multimaterial_constants import (
     NODE_OUT_COLUMNS, OUT_AREA, OUT_ENERGY, OUT_JUMP_N, OUT_JUMP_T, OUT_STATUS, OUT_TRACTION_N,
-    OUT_TRACTION_T, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_SCREENED,
+    OUT_TRACTION_T, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_OVER_LIMIT, STATUS_SCREENED,
 )
 
 RNG = np.random.default_rng(1234)
@@ -339,18 +339,26 @@ def test_bilinear_normal_law_branches():
         assert U == pytest.approx(0.5 * dn * jn ** 2 * A, rel=1e-12)
 
 
-def test_force_limiting_caps_at_eq26_and_closes_the_jump():
-    """000 Eq 23-27: a stiff interface force is capped at the force that brings both
-    fields to the centre-of-mass position in the step (checked with Eq 24-25)."""
+def test_force_limiting_switches_a_stiff_direction_to_stick_at_the_eq26_bound():
+    """000 Eq 23-27: a stiff interface force above the force that brings both fields to
+    the centre-of-mass position in one step makes that direction stick (zero energy).
+    The bound is derived for this code's update u+ = u + dt (p + dt f)/m (Eq 26 with the
+    factors 2 is for the midpoint rule of Eq 24-25); the applied force equalises the
+    end-of-step velocities, as the momentum correction of a perfect direction does."""
     n = np.array([1.0, 0.0])
     jump = np.array([0.01, 0.004])
     m_a, m_b = 2.0, 0.5
-    s, cellv = interface_state(jump, n, omega=(0.5, 0.5), masses=(m_a, m_b), thickness=1.0)
-    s["momentum"][0, 0] = m_a * np.array([0.3, -0.1])
-    s["momentum"][0, 1] = m_b * np.array([-0.2, 0.4])
-    f_other = np.array([[0.5, -0.2], [0.1, 0.3]])
-    s["force"][0] = f_other
     dt = 1e-3
+
+    def state():
+        s, _ = interface_state(jump, n, omega=(0.5, 0.5), masses=(m_a, m_b), thickness=1.0)
+        s["momentum"][0, 0] = m_a * np.array([0.3, -0.1])
+        s["momentum"][0, 1] = m_b * np.array([-0.2, 0.4])
+        s["force"][0] = f_other
+        return s
+
+    f_other = np.array([[0.5, -0.2], [0.1, 0.3]])
+    s = state()
     tables = sn(LinearInterface(1e9, 1e9), n, force_limiting=True)
     out = np.zeros((1, NODE_OUT_COLUMNS))
     U = interface(s, tables, dt=dt, out=out)
@@ -358,11 +366,31 @@ def test_force_limiting_caps_at_eq26_and_closes_the_jump():
     np.testing.assert_allclose(s["force"][0, 1] - f_other[1], -f_int, rtol=1e-12)
     assert U == 0.0
     assert int(out[0, OUT_STATUS]) & int(STATUS_LIMITED_N) and int(out[0, OUT_STATUS]) & int(STATUS_LIMITED_T)
-    # midpoint-rule positions (Eq 24-25) coincide at the end of the step
     p = s["momentum"][0]
-    u_a = 0.0 + dt / m_a * (p[0] + dt / 2 * (f_other[0] + f_int))
-    u_b = jump + dt / m_b * (p[1] + dt / 2 * (f_other[1] - f_int))
-    np.testing.assert_allclose(u_a, u_b, atol=1e-15)
+    v_a = (p[0] + dt * (f_other[0] + f_int)) / m_a
+    v_b = (p[1] + dt * (f_other[1] - f_int)) / m_b
+    np.testing.assert_allclose(v_a, v_b, atol=1e-13)
+    # the bound itself: m_red [u]/dt^2 + Delta p/dt + Delta f per direction (Eq 26-27
+    # for u+ = u + dt v+); a stiffness just below / above it is not / is limited
+    m_red = m_a * m_b / (m_a + m_b)
+    dp0 = m_red * (p[1] / m_b - p[0] / m_a)
+    df = (m_a * f_other[1] - m_b * f_other[0]) / (m_a + m_b)
+    f_max_n = m_red * jump[0] / dt ** 2 + dp0[0] / dt + df[0]
+    A = out[0, OUT_AREA]
+    dn_bound = f_max_n / (jump[0] * A)
+    for factor, limited in ((0.99, False), (1.01, True)):
+        s = state()
+        out[:] = 0.0
+        interface(s, sn(LinearInterface(factor * dn_bound, math.inf), n, force_limiting=True),
+                  dt=dt, out=out)
+        assert bool(int(out[0, OUT_STATUS]) & int(STATUS_LIMITED_N)) == limited
+    # without limiting the force is not capped but the node is flagged
+    s = state()
+    out[:] = 0.0
+    interface(s, sn(LinearInterface(1e9, 1e9), n, force_limiting=False), dt=dt, out=out)
+    assert int(out[0, OUT_STATUS]) & int(STATUS_OVER_LIMIT)
+    assert not int(out[0, OUT_STATUS]) & int(STATUS_LIMITED_N)
+    np.testing.assert_allclose(s["force"][0, 0, 0] - f_other[0, 0], 1e9 * jump[0] * A, rtol=1e-12)
     # a soft interface is not limited
     s2, _ = interface_state(jump, n, omega=(0.5, 0.5), masses=(m_a, m_b), thickness=1.0)
     tables = sn(LinearInterface(1.0, 1.0), n, force_limiting=True)
