@@ -39,11 +39,20 @@ class Comparison:
         v = self.results[method].quantities.get(quantity, math.nan)
         return float(v) if _is_number(v) else math.nan
 
+    def reference_for(self, quantity: str) -> str | None:
+        """The method a quantity is compared to: the case's reference where it gives the
+        quantity, else FEM (the static numerical reference) where it does."""
+        for m in (self.reference, "fem"):
+            if m is not None and m in self.results and math.isfinite(self.value(m, quantity)):
+                return m
+        return None
+
     def relative_difference(self, method: str, quantity: str) -> float:
-        """(value - reference) / |reference|, NaN without a reference value."""
-        if self.reference is None or self.reference not in self.results:
-            return math.nan
-        ref = self.value(self.reference, quantity)
+        """(value - reference) / |reference| (see :meth:`reference_for`), NaN without one."""
+        ref_method = self.reference_for(quantity)
+        if ref_method is None or ref_method == method:
+            return 0.0 if ref_method == method else math.nan
+        ref = self.value(ref_method, quantity)
         val = self.value(method, quantity)
         if not math.isfinite(ref) or ref == 0 or not math.isfinite(val):
             return math.nan
@@ -54,7 +63,7 @@ class Comparison:
         for q in self.quantity_names():
             for m in self.results:
                 out.append({"quantity": q, "method": m, "value": self.value(m, q),
-                            "reference": self.reference or "",
+                            "reference": self.reference_for(q) or "",
                             "relative_difference": self.relative_difference(m, q),
                             "time_s": self.results[m].timings.get("total", math.nan)})
         return out
@@ -74,17 +83,22 @@ class Comparison:
         methods = list(self.results)
         head = f"{'quantity':<22}" + "".join(f"{m:>24}" for m in methods)
         lines = [f"case {self.case.name}: {self.case.description}",
-                 f"reference: {self.reference or 'none'}", head, "-" * len(head)]
-        for q in self.quantity_names():
+                 f"reference: {self.reference or 'none'} (fem for quantities the reference does not give); "
+                 "(+x%) = difference to it", head, "-" * len(head)]
+        from .plots import shared_quantities
+
+        rows = shared_quantities(self) if len(self.results) > 1 else self.quantity_names()
+        for q in rows:
             cells = []
             for m in methods:
                 v = self.value(m, q)
                 d = self.relative_difference(m, q)
                 txt = "-" if math.isnan(v) else f"{v:.5g}"
-                if m != self.reference and math.isfinite(d):
+                if m != self.reference_for(q) and math.isfinite(d):
                     txt += f" ({100 * d:+.2f}%)"
                 cells.append(f"{txt:>24}")
             lines.append(f"{q:<22}" + "".join(cells))
+        lines.append("(every quantity of every method is in results.json and comparison.csv)")
         lines.append(f"{'time (s)':<22}" + "".join(f"{self.results[m].timings.get('total', math.nan):>24.3g}" for m in methods))
         for m, r in self.results.items():
             for w in r.diagnostics.get("warnings", []):

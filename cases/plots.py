@@ -32,18 +32,15 @@ PROFILE_KEYS = ("ux", "uy", "uz", "jump_n", "jump_t")
 
 
 def shared_quantities(comparison) -> list[str]:
-    """Quantities worth a panel: those of the reference that another method also gives;
-    without a reference, those given by two or more methods; else the headline ones."""
+    """Quantities worth a panel: those two or more methods give and that have a
+    reference (the case's, else FEM); with one method, its headline quantities."""
     names = comparison.quantity_names()
     methods = list(comparison.results)
 
     def count(q):
         return sum(math.isfinite(comparison.value(m, q)) for m in methods)
 
-    if comparison.reference is not None and len(methods) > 1:
-        out = [q for q in names if math.isfinite(comparison.value(comparison.reference, q)) and count(q) > 1]
-    else:
-        out = [q for q in names if count(q) > 1]
+    out = [q for q in names if count(q) > 1 and comparison.reference_for(q) is not None] if len(methods) > 1 else []
     return out or [q for q in names if q in HEADLINE]
 
 
@@ -103,13 +100,12 @@ def plot_comparison(comparison, path) -> Path:
             if math.isfinite(v):
                 ax.bar(i, v, color=_style(m)["color"], alpha=0.75)
                 d = comparison.relative_difference(m, q)
-                lab = f"{v:.4g}" + (f"\n{100 * d:+.1f}%" if m != comparison.reference and math.isfinite(d) else "")
+                lab = f"{v:.4g}" + (f"\n{100 * d:+.1f}%" if m != comparison.reference_for(q) and math.isfinite(d) else "")
                 ax.annotate(lab, (i, v), ha="center", va="bottom", fontsize=8)
-        if comparison.reference in comparison.results:
-            ref = comparison.value(comparison.reference, q)
-            if math.isfinite(ref):
-                ax.axhline(ref, color="k", lw=1, ls="--", label=f"reference ({comparison.reference})")
-                ax.legend(fontsize=7, loc="lower right")
+        ref_method = comparison.reference_for(q)
+        if ref_method is not None:
+            ax.axhline(comparison.value(ref_method, q), color="k", lw=1, ls="--", label=f"reference ({ref_method})")
+            ax.legend(fontsize=7, loc="lower right")
         ax.set_xticks(range(len(methods)), methods)
         ax.set_title(f"{q} ({UNITS.get(q, '')})", fontsize=10)
         finite = [v for v in vals if math.isfinite(v)]
