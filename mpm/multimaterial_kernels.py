@@ -470,7 +470,9 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
         # energy (000 after Eq 27): the applied force only equalises the velocities,
         # f_stick = Delta p / dt + Delta f, as the momentum correction of a perfect
         # direction does (applying f_max itself feeds the jump back at the stability
-        # limit and diverged on DLS at Dn = Dt = 1e5).
+        # limit and diverged on DLS at Dn = Dt = 1e5).  A direction whose stiffness
+        # alone exceeds the bound (D A dt^2 > m_red: the spring overshoots the centre of
+        # mass for any jump) is also limited, whatever the velocities.
         if rigid_b:
             m_red = m_a
         else:
@@ -487,8 +489,8 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
         fmax_n = _dot(fmax, n)
         for k in range(d):
             fmt[k] = fmax[k] - fmax_n * n[k]
-        over_n = n_finite and abs(fn) > abs(fmax_n)
-        over_t = t_finite and _dot(ft, ft) > _dot(fmt, fmt)
+        over_n = n_finite and (abs(fn) > abs(fmax_n) or dn_stiff * area * dt * dt > m_red)
+        over_t = t_finite and (_dot(ft, ft) > _dot(fmt, fmt) or dt_stiff * area * dt * dt > m_red)
         if settings[S_FORCE_LIMIT] == 0.0:
             # no limiting: flag the node, the caller warns (explicit instability)
             if over_n or over_t:

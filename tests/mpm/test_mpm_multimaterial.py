@@ -384,6 +384,14 @@ def test_force_limiting_switches_a_stiff_direction_to_stick_at_the_eq26_bound():
         interface(s, sn(LinearInterface(factor * dn_bound, math.inf), n, force_limiting=True),
                   dt=dt, out=out)
         assert bool(int(out[0, OUT_STATUS]) & int(STATUS_LIMITED_N)) == limited
+    # a spring stiffer than m_red / (A dt^2) overshoots the centre of mass for any jump
+    # (explicit instability): limited even when the velocities make Eq 26 large
+    s = state()
+    s["momentum"][0, 1, 0] = m_b * 50.0           # b moves away fast: f_max_n >> k [u]
+    out[:] = 0.0
+    d_stiff = 1.5 * m_red / (A * dt ** 2)
+    interface(s, sn(LinearInterface(d_stiff, math.inf), n, force_limiting=True), dt=dt, out=out)
+    assert int(out[0, OUT_STATUS]) & int(STATUS_LIMITED_N)
     # without limiting the force is not capped but the node is flagged
     s = state()
     out[:] = 0.0
