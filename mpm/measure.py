@@ -57,15 +57,23 @@ def stiffness_quantities(case, particles, loads: list[dict], stored_energy: floa
     return out
 
 
-def interface_profile(grid, node_out: np.ndarray) -> dict | None:
+def interface_profile(grid, node_out: np.ndarray, mass: np.ndarray | None = None,
+                      pair: tuple[int, int] | None = None) -> dict | None:
     """Jump and traction at the interface nodes of the last step (helper columns of
     mpm.multimaterial_constants OUT_*), ordered along the interface.
 
+    With ``mass`` (N, M) and ``pair`` (field indices a, b) only the nodes whose two
+    heaviest fields are that pair are kept, so each interface of a case gets its own
+    profile (as FEM reports the first interface pair of the case as "interface_jump").
     ``s`` is the coordinate along the mean interface tangent (from the node normals).
     """
     from .multimaterial_constants import (OUT_AREA, OUT_ENERGY, OUT_JUMP_N, OUT_JUMP_T,
                                           OUT_NX, OUT_NY, OUT_TRACTION_N, OUT_TRACTION_T)
-    rows = np.flatnonzero(node_out[:, OUT_AREA] > 0.0)
+    active = node_out[:, OUT_AREA] > 0.0
+    if mass is not None and pair is not None and mass.shape[1] > 2:
+        top2 = np.sort(np.argsort(mass, axis=1)[:, -2:], axis=1)
+        active &= (top2[:, 0] == min(pair)) & (top2[:, 1] == max(pair))
+    rows = np.flatnonzero(active)
     if rows.size == 0:
         return None
     X = grid.node_positions()[rows]
@@ -101,3 +109,36 @@ def _strain_tensor(voigt: np.ndarray) -> np.ndarray:
     e[:, 1, 1] = voigt[:, 1]
     e[:, 0, 1] = e[:, 1, 0] = 0.5 * voigt[:, 2]
     return e
+
+
+def line_profiles(case, x0: np.ndarray, u: np.ndarray, spacing: float, n_bins: int | None = None) -> dict:
+    """Displacement along each of ``case.lines`` from the particles (reference positions
+    ``x0``, displacements ``u``): particles within half a particle ``spacing`` of the
+    line are averaged in bins one spacing long. Returns {line: {"s", "x", "y", "ux", "uy"}}
+    in the shared profile convention of docs/case_api.md.
+    """
+    out = {}
+    D = x0.shape[1]
+    for name, (p0, p1) in case.lines.items():
+        p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
+        length = float(np.linalg.norm(p1 - p0))
+        if length == 0.0 or p0.size != D:
+            continue
+        d = (p1 - p0) / length
+        rel = x0 - p0
+        s = rel @ d
+        dist = np.linalg.norm(rel - np.outer(s, d), axis=1)
+        near = (dist <= 0.5 * spacing * (1 + 1e-9)) & (s >= -1e-9) & (s <= length + 1e-9)
+        if not near.any():
+            continue
+        nb = n_bins or max(1, int(round(length / spacing)))
+        idx = np.minimum((s[near] / length * nb).astype(int), nb - 1)
+        count = np.bincount(idx, minlength=nb)
+        keep = count > 0
+        prof = {"s": ((np.arange(nb) + 0.5) * length / nb)[keep]}
+        pos = p0 + np.outer(prof["s"], d)
+        for k, c in enumerate("xyz"[:D]):
+            prof[c] = pos[:, k]
+            prof[f"u{c}"] = (np.bincount(idx, weights=u[near, k], minlength=nb) / np.maximum(count, 1))[keep]
+        out[name] = prof
+    return out

@@ -24,7 +24,7 @@ from interfaces.result import Result
 from . import kernels as K
 from .boundary import nodal_conditions
 from .grid import Grid, NodalFields
-from .measure import interface_profile, stiffness_quantities
+from .measure import interface_profile, line_profiles, stiffness_quantities
 from .options import merge
 from .particles import apply_tractions, generate
 from .progress import ProgressBar
@@ -410,10 +410,14 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
                   "stress": pt.stress.copy(), "strain": pt.strain.copy(),
                   "material": pt.field.copy(), "velocity": pt.v.copy(),
                   "volume": pt.volume0.copy()}
+    spacing = float(np.max(np.asarray(model.grid.cell, float) / np.asarray(opts["ppc"], float)))
+    res.profiles.update(line_profiles(case, pt.x0, pt.x - pt.x0, spacing))
     if model.node_out is not None and u_int != 0.0:
-        prof = interface_profile(model.grid, model.node_out)
-        if prof is not None:
-            res.profiles["interface_jump"] = prof
+        for k, pair in enumerate(case.interfaces):
+            ab = (case.body_index(pair.a), case.body_index(pair.b))
+            prof = interface_profile(model.grid, model.node_out, model.nodal.mass, ab)
+            if prof is not None:
+                res.profiles["interface_jump" if k == 0 else f"interface_jump[{pair.a}|{pair.b}]"] = prof
     if opts["vtk_dir"]:
         res.diagnostics["vtk_series"] = str(write_vtk_series(opts["vtk_dir"], run.frames,
                                                             prefix=case.name))
