@@ -63,8 +63,9 @@ def profile_panels(comparison) -> list[tuple[str, str]]:
                 present = True
                 peak = max(peak, float(np.nanmax(v) - np.nanmin(v)) if np.isfinite(v).any() else 0.0)
                 for k2 in PROFILE_KEYS:
-                    if k2 in prof and np.shape(prof[k2]) == np.shape(prof["s"]):
-                        scale = max(scale, float(np.nanmax(np.abs(np.asarray(prof[k2], dtype=float)))))
+                    a = np.abs(np.asarray(prof.get(k2, []), dtype=float))
+                    if a.shape == np.shape(prof["s"]) and np.isfinite(a).any():
+                        scale = max(scale, float(np.nanmax(a)))
             if present and peak > 1e-3 * scale and peak > 0:  # skip flat (rigid shift or noise) curves
                 panels.append((pname, key))
     return panels
