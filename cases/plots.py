@@ -29,6 +29,9 @@ def _style(method: str) -> dict:
 HEADLINE = ("stiffness", "stiffness_energy", "strain_energy", "interface_energy", "bulk_modulus",
             "transmitted_energy")
 PROFILE_KEYS = ("ux", "uy", "uz", "jump_n", "jump_t")
+NOT_COMPARED = ("load", "external_work")
+"""Kept in results.json but not compared: the applied load is an input, and the work of
+a dynamic method includes what its damping removed, so it differs from the static work."""
 
 
 def shared_quantities(comparison) -> list[str]:
@@ -40,6 +43,7 @@ def shared_quantities(comparison) -> list[str]:
     def count(q):
         return sum(math.isfinite(comparison.value(m, q)) for m in methods)
 
+    names = [q for q in names if q not in NOT_COMPARED]
     out = [q for q in names if count(q) > 1 and comparison.reference_for(q) is not None] if len(methods) > 1 else []
     return out or [q for q in names if q in HEADLINE]
 
