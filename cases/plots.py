@@ -22,6 +22,18 @@ LABELS = {"ux": "u_x (mm)", "uy": "u_y (mm)", "uz": "u_z (mm)", "jump_n": "[u_n]
           "traction_n": "T_n (MPa)", "traction_t": "T_t (MPa)"}
 
 
+def _finish(fig, unused_axes, title: str, path) -> Path:
+    """Hide unused panels, title, save as PNG and close."""
+    for ax in unused_axes:
+        ax.axis("off")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
 def _style(method: str) -> dict:
     return STYLE.get(method, dict(color="tab:purple", ls="-", marker="x", lw=1.0))
 
@@ -131,14 +143,7 @@ def plot_comparison(comparison, path) -> Path:
         ax.set_ylabel(LABELS.get(key, key))
         ax.set_title(f"{pname}: {key}", fontsize=10)
         ax.legend(fontsize=7)
-    for ax in axes[n:]:
-        ax.axis("off")
-    fig.suptitle(f"{comparison.case.name}: {comparison.case.description}", fontsize=10)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _finish(fig, axes[n:], f"{comparison.case.name}: {comparison.case.description}", path)
 
 
 def sweep_quantities(sweep) -> list[str]:
@@ -194,11 +199,4 @@ def plot_sweep(sweep, path, x_transform: str | None = None, quantities=None) -> 
             ax.set_xscale("log")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    for ax in axes[n:]:
-        ax.axis("off")
-    fig.suptitle(f"{sweep.case_name}: sweep of {sweep.param}", fontsize=10)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _finish(fig, axes[n:], f"{sweep.case_name}: sweep of {sweep.param}", path)

@@ -51,6 +51,14 @@ def _pos(name, v):
     return check_number(name, v, low=0, low_open=True)
 
 
+def _checked(shape, numbers=(), positives=()) -> None:
+    """Validate and store fields of a frozen shape: finite ``numbers``, positive ``positives``."""
+    for n in numbers:
+        object.__setattr__(shape, n, check_number(n, getattr(shape, n)))
+    for n in positives:
+        object.__setattr__(shape, n, _pos(n, getattr(shape, n)))
+
+
 class _Sided(Shape):
     """Axis-aligned box in its own frame (origin + size), rotated by ``angle`` in 2D."""
 
@@ -147,10 +155,7 @@ class Rectangle(_Sided):
     dimension: ClassVar[int] = 2
 
     def __post_init__(self):
-        for n in ("x0", "y0", "angle"):
-            object.__setattr__(self, n, check_number(n, getattr(self, n)))
-        for n in ("width", "height"):
-            object.__setattr__(self, n, _pos(n, getattr(self, n)))
+        _checked(self, ("x0", "y0", "angle"), ("width", "height"))
 
 
 @_register
@@ -168,10 +173,7 @@ class Box(_Sided):
     dimension: ClassVar[int] = 3
 
     def __post_init__(self):
-        for n in ("x0", "y0", "z0"):
-            object.__setattr__(self, n, check_number(n, getattr(self, n)))
-        for n in ("wx", "wy", "wz"):
-            object.__setattr__(self, n, _pos(n, getattr(self, n)))
+        _checked(self, ("x0", "y0", "z0"), ("wx", "wy", "wz"))
 
 
 @_register
@@ -240,10 +242,7 @@ class Ellipse(Shape):
     dimension: ClassVar[int] = 2
 
     def __post_init__(self):
-        for n in ("cx", "cy", "angle"):
-            object.__setattr__(self, n, check_number(n, getattr(self, n)))
-        for n in ("a", "b"):
-            object.__setattr__(self, n, _pos(n, getattr(self, n)))
+        _checked(self, ("cx", "cy", "angle"), ("a", "b"))
 
     def contains(self, points, tol: float = 0.0) -> np.ndarray:
         p = self._points(points) - [self.cx, self.cy]
@@ -271,9 +270,7 @@ class Circle(Shape):
     dimension: ClassVar[int] = 2
 
     def __post_init__(self):
-        for n in ("cx", "cy"):
-            object.__setattr__(self, n, check_number(n, getattr(self, n)))
-        object.__setattr__(self, "r", _pos("r", self.r))
+        _checked(self, ("cx", "cy"), ("r",))
 
     def contains(self, points, tol: float = 0.0) -> np.ndarray:
         p = self._points(points)
@@ -296,9 +293,7 @@ class Sphere(Shape):
     dimension: ClassVar[int] = 3
 
     def __post_init__(self):
-        for n in ("cx", "cy", "cz"):
-            object.__setattr__(self, n, check_number(n, getattr(self, n)))
-        object.__setattr__(self, "r", _pos("r", self.r))
+        _checked(self, ("cx", "cy", "cz"), ("r",))
 
     def contains(self, points, tol: float = 0.0) -> np.ndarray:
         p = self._points(points)

@@ -122,6 +122,12 @@ class Material:
 _MATERIALS: dict[str, type] = {}
 
 
+def _positive(obj, *names: str) -> None:
+    """Validate (> 0, finite) and store the named fields of a frozen dataclass."""
+    for name in names:
+        object.__setattr__(obj, name, check_number(name, getattr(obj, name), low=0, low_open=True))
+
+
 def _register(cls):
     _MATERIALS[cls.kind] = cls
     return cls
@@ -143,9 +149,8 @@ class IsotropicElastic(Material):
     kind: ClassVar[str] = "isotropic"
 
     def __post_init__(self):
-        object.__setattr__(self, "E", check_number("E", self.E, low=0, low_open=True))
+        _positive(self, "E", "rho")
         object.__setattr__(self, "nu", check_number("nu", self.nu, low=-1, high=0.5, low_open=True, high_open=True))
-        object.__setattr__(self, "rho", check_number("rho", self.rho, low=0, low_open=True))
 
     @property
     def G(self) -> float:
@@ -190,12 +195,11 @@ class TransverselyIsotropicElastic(Material):
     kind: ClassVar[str] = "transversely_isotropic"
 
     def __post_init__(self):
-        for name in ("E_A", "E_T", "G_A"):
-            object.__setattr__(self, name, check_number(name, getattr(self, name), low=0, low_open=True))
+        _positive(self, "E_A", "E_T", "G_A")
         object.__setattr__(self, "nu_T", check_number("nu_T", self.nu_T, low=-1, high=1, low_open=True, high_open=True))
         nu_A = check_number("nu_A", self.nu_A, low=-10.0, high=10.0)
         object.__setattr__(self, "nu_A", nu_A)
-        object.__setattr__(self, "rho", check_number("rho", self.rho, low=0, low_open=True))
+        _positive(self, "rho")
         if not 1 - self.nu_T - 2 * nu_A**2 * self.E_T / self.E_A > 0:
             lim = math.sqrt((1 - self.nu_T) * self.E_A / (2 * self.E_T))
             raise CaseError(f"nu_A must satisfy |nu_A| < sqrt((1 - nu_T) E_A / (2 E_T)) = {lim:.4g} "
@@ -256,9 +260,7 @@ class NeoHookean(Material):
     kind: ClassVar[str] = "neo_hookean"
 
     def __post_init__(self):
-        object.__setattr__(self, "K", check_number("K", self.K, low=0, low_open=True))
-        object.__setattr__(self, "G", check_number("G", self.G, low=0, low_open=True))
-        object.__setattr__(self, "rho", check_number("rho", self.rho, low=0, low_open=True))
+        _positive(self, "K", "G", "rho")
 
     def stiffness3d(self) -> np.ndarray:
         return isotropic_from_KG(self.K, self.G).stiffness3d()
@@ -283,11 +285,9 @@ class MieGruneisen(Material):
     kind: ClassVar[str] = "mie_gruneisen"
 
     def __post_init__(self):
-        object.__setattr__(self, "C0", check_number("C0", self.C0, low=0, low_open=True))
-        object.__setattr__(self, "S1", check_number("S1", self.S1, low=0))
-        object.__setattr__(self, "gamma0", check_number("gamma0", self.gamma0, low=0))
-        object.__setattr__(self, "G", check_number("G", self.G, low=0, low_open=True))
-        object.__setattr__(self, "rho", check_number("rho", self.rho, low=0, low_open=True))
+        _positive(self, "C0", "G", "rho")
+        for name in ("S1", "gamma0"):
+            object.__setattr__(self, name, check_number(name, getattr(self, name), low=0))
 
     @property
     def K(self) -> float:
