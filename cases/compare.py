@@ -13,7 +13,7 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from interfaces import Case
+from interfaces import Case, CaseError, SolverError
 
 from .methods import resolve_methods, run
 
@@ -117,10 +117,9 @@ def compare(case: Case, methods="all", options: dict | None = None, progress: bo
     """Run ``methods`` (a list, comma string or ``"all"``) on ``case`` and compare.
 
     ``options`` maps a method name to keyword options of its ``solve``. With
-    ``skip_unavailable`` a method that is not available is reported, not raised.
+    ``skip_unavailable`` a method that is unavailable, does not handle the case or
+    fails with a CaseError/SolverError is reported in ``failures``, not raised.
     """
-    from .methods import MethodUnavailable
-
     options = options or {}
     names = resolve_methods(case, methods)
     results, failures = {}, {}
@@ -129,10 +128,14 @@ def compare(case: Case, methods="all", options: dict | None = None, progress: bo
             print(f"[{m}] running {case.name} ...", file=sys.stderr, flush=True)
         try:
             results[m] = run(case, m, **options.get(m, {}))
-        except MethodUnavailable as e:
+        except (CaseError, SolverError) as e:
+            # a method that is missing, does not handle this case yet, or failed: report it
+            # beside the others' results rather than losing them (raise if asked to)
             if not skip_unavailable:
                 raise
             failures[m] = str(e)
+            if progress:
+                print(f"[{m}] not run: {e}", file=sys.stderr, flush=True)
             continue
         if progress:
             print(f"[{m}] done in {results[m].timings.get('total', float('nan')):.2f} s", file=sys.stderr, flush=True)
