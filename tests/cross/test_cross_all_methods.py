@@ -46,3 +46,19 @@ def test_imperfect_interface_all_methods_agree_short_dls():
 def test_full_002_dls_all_methods_agree(Dt):
     comp = compare(cases.build("dls", Dt=Dt, mpm_cell=0.1), "all", progress=False)
     _check(comp, 0.01)
+
+
+def test_two_layer_mpm_vs_fem_energies():
+    """000 Fig 4A two-layer shear (reduced: 8 mm tall, 0.5 mm cells, Dt = 5, Dn = inf).
+
+    Strain energy within 0.5 % (measured 0.1 %). The interfacial energy is a small part
+    of the total (< 2 %, 000 Sec 3) and MPM's is 4.0 % above FEM here (8-12 % at 0.25 mm
+    cells on the full specimen): an open discrepancy tracked in issue #4, partly from the
+    specimen rotation entering the extrapolated nodal displacements (000 Eq 13); 000 Fig 5
+    shows MPM above FEA too. The 6 % bound catches a lost area correction (Eq 20: a
+    factor 2) or a missing 1/2 in the energy (Eq 18, ERRATA 10).
+    """
+    comp = compare(cases.build("two_layer", Dt=5.0, height=8.0, mpm_cell=0.5), "fem,mpm", progress=False)
+    assert comp.reference == "fem"
+    assert abs(comp.relative_difference("mpm", "strain_energy")) < 0.005
+    assert abs(comp.relative_difference("mpm", "interface_energy")) < 0.06
