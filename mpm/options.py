@@ -7,6 +7,7 @@ import numpy as np
 
 from interfaces.errors import CaseError, check_number
 
+from .extrapolation import NODAL_DISPLACEMENT_CODES
 from .shape import SHAPE_CODES
 
 #: core options (the multimaterial options of mpm.multimaterial.DEFAULT_OPTIONS are
@@ -18,13 +19,16 @@ DEFAULTS: dict = {
     "cfl": 0.5,              # dt = cfl * min(cell) / max wave speed
     "dt": None,              # explicit time step (overrides cfl)
     "damping": "grid",       # grid | kinetic | none
-    "alpha": None,           # grid damping (1/s); None = 2 omega_1 (critical for the estimated lowest mode)
+    "alpha": None,           # grid damping (1/s); None = adaptive 2 omega (critical for the Rayleigh-quotient mode of the current deformation)
     "pic": 0.0,              # PIC fraction blended into the FLIP update (0 = pure FLIP)
     "update": "auto",        # auto | usl | musl | usf (auto: usl when every body edge lies on grid lines, else musl)
     "ramp_time": None,       # s; default: the traction ramp_time, else one estimated period T1
     "max_time": None,        # s; default ramp + 40 T1
-    "tol": 1e-6,             # stop when kinetic / (strain + interface) energy < tol over T1/2 after the ramp
+    "tol": 1e-6,             # stop when kinetic / (strain + interface) energy < tol over half a period after the ramp
+    "tol_energy": 1e-4,      # ... and the stored energy changes by less than tol_energy of itself there
     "padding": 3,            # empty cells around the bodies
+    "nodal_displacement": "linear",  # multimaterial nodes: linear (000 Eq 13 extrapolated from
+                                     # the centroid to the node, mpm/extrapolation.py) | average (Eq 13)
     "grid_anchor": "bounds",  # node lines through: bounds (lower corner of the case) | origin | [x, y]
     "progress": None,        # None = auto (runs longer than ~5 s), True / False
     "vtk_dir": None,         # write a VTU series + .pvd there
@@ -69,11 +73,18 @@ def merge(case, overrides: dict) -> dict:
         if opts[key] is not None:
             opts[key] = check_number(f"mpm option {key}", opts[key], low=0, low_open=(key == "max_time"))
     opts["tol"] = check_number("mpm option tol", opts["tol"], low=0, high=1, low_open=True)
+    opts["tol_energy"] = check_number("mpm option tol_energy", opts["tol_energy"], low=0, high=1,
+                                      low_open=True)
     opts["padding"] = int(check_number("mpm option padding", opts["padding"], low=2, high=100))
     opts["vtk_frames"] = int(check_number("mpm option vtk_frames", opts["vtk_frames"], low=1, high=1e5))
     opts["blowup"] = check_number("mpm option blowup", opts["blowup"], low=1, low_open=True)
     opts["history_points"] = int(check_number("mpm option history_points", opts["history_points"],
                                               low=10, high=1e7))
+    nd = str(opts["nodal_displacement"]).lower()
+    if nd not in NODAL_DISPLACEMENT_CODES:
+        raise CaseError(f"mpm option nodal_displacement must be one of "
+                        f"{sorted(NODAL_DISPLACEMENT_CODES)}, got {opts['nodal_displacement']!r}")
+    opts["nodal_displacement"] = nd
     opts["grid_anchor"] = _anchor(opts["grid_anchor"], D)
     if opts["max_time"] is not None and not math.isfinite(opts["max_time"]):
         raise CaseError("mpm option max_time must be finite")

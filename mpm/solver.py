@@ -23,6 +23,7 @@ from interfaces.result import Result
 
 from . import kernels as K
 from .boundary import nodal_conditions
+from .extrapolation import displacement_to_nodes
 from .grid import Grid, NodalFields
 from .measure import interface_profile, line_profiles, stiffness_quantities
 from .options import merge
@@ -34,6 +35,9 @@ from .vtk import write_vtk_series
 from .multimaterial_constants import OUT_STATUS, S_FORCE_LIMIT, STATUS_OVER_LIMIT
 
 _OVER_LIMIT = int(STATUS_OVER_LIMIT)
+
+#: adaptive damping follows periods up to this multiple of the axial estimate T1 = 4 L / c
+MAX_PERIOD_RATIO = 50.0
 
 HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc", "interface",
                 "kinetic_grid")
@@ -71,7 +75,12 @@ class Model:
         ramps = [ld["ramp_time"] for ld in self.loads if ld["ramp_time"] is not None]
         self.ramp_time = opts["ramp_time"] if opts["ramp_time"] is not None else \
             (max(ramps) if ramps else self.T1)
+        # lowest period of the loaded deformation: starts at T1, then follows the Rayleigh
+        # quotient of the current displacement field (adaptive damping, see rayleigh_period)
+        self.period = self.T1
+        self.fixed_max_time = opts["max_time"] is not None
         self.max_time = opts["max_time"] or self.ramp_time + 40.0 * self.T1
+        self.adaptive_alpha = opts["damping"] == "grid" and opts["alpha"] is None
         if opts["damping"] == "grid":
             self.alpha = opts["alpha"] if opts["alpha"] is not None else 2.0 * (2.0 * math.pi / self.T1)
         else:
@@ -90,6 +99,28 @@ class Model:
             self.node_out = np.zeros((self.grid.N, mm.NODE_OUT_COLUMNS))
         self.force_limiting = self.tables is None or \
             bool(self.tables.settings[S_FORCE_LIMIT] != 0.0)
+
+
+def rayleigh_period(mass: np.ndarray, volume: np.ndarray, C_particle: np.ndarray,
+                    du: np.ndarray, dstrain: np.ndarray) -> float:
+    """Period 2 pi / omega of the Rayleigh quotient omega^2 = du.K du / du.M du of a
+    displacement increment (adaptive dynamic relaxation, Underwood 1983).
+
+    ``du`` (P, D) and ``dstrain`` (P, nv, engineering shear) are the particle
+    displacement and strain increments over the last output interval, ``C_particle``
+    (P, nv, nv) the particles' stiffness and ``volume`` their volume, so
+    du.K du = sum_p V_p deps.C.deps and du.M du = sum_p m_p |du_p|^2. Late in a
+    quasi-static run the increment is the slowest mode still creeping towards the static
+    state (e.g. the bending of a block loaded in tension on one side), so the quotient
+    tracks the mode that limits convergence. The interfacial energy of the increment is
+    left out: for interface-dominated modes the estimate is low (damping below critical,
+    which still converges, at rate alpha / 2). Returns inf when nothing moved.
+    """
+    mu2 = float(np.einsum("p,pd,pd->", mass, du, du))
+    ku2 = float(np.einsum("p,pi,pij,pj->", volume, dstrain, C_particle, dstrain))
+    if not (ku2 > 0.0 and mu2 > 0.0 and math.isfinite(ku2) and math.isfinite(mu2)):
+        return math.inf
+    return 2.0 * math.pi / math.sqrt(ku2 / mu2)
 
 
 def _grid_aligned(case, grid: Grid) -> bool:
@@ -160,6 +191,7 @@ class _Runner:
         self.frames = []
         self.warnings: list[str] = []
         self.stopped_by = "max_time"
+        self.snapshot = None  # (displacement, strain) at the previous interval end
         # force_limiting off: (steps with a node above the 000 Eq 26 bound, most such
         # nodes in one step, first time)
         self.over_limit = [0, 0, -1.0]
@@ -210,6 +242,7 @@ class _Runner:
             lr_out = (np.zeros((g.N, m.M, g.D)), np.zeros((g.N, m.M)))
         else:
             half_width = mass_tol = lr_out = None
+        linear_u = m.opts["nodal_displacement"] == "linear"
         t = self.t
         for s in range(nsteps):
             scale = K.ramp(t, m.ramp_time)
@@ -222,6 +255,13 @@ class _Runner:
                 return s, lost
             nodes = K.multimaterial_nodes(nd.mass)
             multi = nodes.size > 0
+            if multi and linear_u:
+                # separations of 000 Eq 13 evaluated at the node, not at the centroids
+                tb = m.tables
+                displacement_to_nodes(nd.mass, nd.displacement, nd.position, nodes, g.origin,
+                                      g.cell, g.nn, tb.law_kind, tb.law_params, tb.node_zone,
+                                      tb.zone_pairs, tb.zone_kind, tb.zone_params,
+                                      np.empty((nodes.size, m.M, g.D)))
             args = (nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
                     nd.displacement, nd.position, g.cell, m.tables, m.dt, thick)
             lr = None
@@ -307,12 +347,11 @@ class _Runner:
         m = self.m
         interval = max(1, int(math.ceil(0.25 * m.T1 / m.dt)))
         total_steps = int(math.ceil(m.max_time / m.dt))
-        window = max(1, int(math.ceil(0.5 * m.T1 / m.dt)))
         est_time = 1e-7 * m.particles.P * total_steps
         show = m.opts["progress"] if m.opts["progress"] is not None else est_time > 5.0
         bar = ProgressBar(f"mpm {m.case.name}", enabled=bool(show))
         vtk_every = max(1, total_steps // m.opts["vtk_frames"]) if m.opts["vtk_dir"] else 0
-        next_frame = vtk_every if vtk_every else total_steps + 1
+        next_frame = vtk_every if vtk_every else math.inf
         if vtk_every:
             self._frame()
         cum_work = 0.0
@@ -334,6 +373,8 @@ class _Runner:
                 next_frame += vtk_every
             bar.update(self.steps / total_steps,
                        f"t={self.t:.3g}s KE/U={h[-1, 7] / max(U + ui, 1e-300):.2e}")
+            total_steps = self._adapt(total_steps)
+            window = int(math.ceil(0.5 * m.period / m.dt))
             if self.t > m.ramp_time and self._settled(window):
                 self.stopped_by = "kinetic_energy"
                 break
@@ -347,7 +388,40 @@ class _Runner:
         if vtk_every and self.frames and self.frames[-1][0] < self.t:
             self._frame()
 
+    def _adapt(self, total_steps: int) -> int:
+        """Follow the slowest mode still moving (:func:`rayleigh_period` of the last
+        interval's increment): grid damping alpha = 2 omega (critical for that mode; the
+        axial T1 = 4 L / c over-damps e.g. the bending of a block loaded on one side,
+        whose static state is then approached by a slow creep that a kinetic-energy test
+        mistakes for rest), the settling window and, unless max_time was given, the time
+        limit ramp + 40 periods (periods capped at MAX_PERIOD_RATIO x T1). Returns the
+        updated total number of steps."""
+        m = self.m
+        pt = m.particles
+        u, strain = pt.x - pt.x0, pt.strain.copy()
+        prev, self.snapshot = self.snapshot, (u, strain)
+        if prev is None:
+            return total_steps
+        period = rayleigh_period(pt.mass, pt.volume0, m.C[pt.field], u - prev[0], strain - prev[1])
+        if not math.isfinite(period):
+            return total_steps
+        # the slowest mode seen so far sets the damping: once the creep of a slow mode has
+        # been seen, its period is kept (late increments of a critically damped run are
+        # small and can be dominated by faster oscillations, which would raise alpha and
+        # make the slow mode creep again); never faster than the axial estimate T1
+        m.period = min(max(m.period, period), MAX_PERIOD_RATIO * m.T1)
+        if m.adaptive_alpha:
+            m.alpha = min(2.0 * (2.0 * math.pi / m.period), 0.5 / m.dt)
+        if not m.fixed_max_time:
+            m.max_time = max(m.max_time, m.ramp_time + 40.0 * m.period)
+            total_steps = max(total_steps, int(math.ceil(m.max_time / m.dt)))
+        return total_steps
+
     def _settled(self, window: int) -> bool:
+        """Static state reached: over the last ``window`` steps (half a period) the grid
+        kinetic energy stays below ``tol`` x stored energy and the stored (strain +
+        interfacial) energy changes by less than ``tol_energy`` of itself (an
+        over-damped mode creeps with almost no kinetic energy)."""
         chunks, count = [], 0
         for h in reversed(self.hist_chunks):
             chunks.append(h)
@@ -357,8 +431,11 @@ class _Runner:
         recent = np.vstack(chunks[::-1])[-window:]
         if recent.shape[0] < window:
             return False
-        stored = recent[-1, 2] + recent[-1, 6]
-        return stored > 0 and recent[:, 7].max() < self.m.opts["tol"] * stored
+        stored_hist = recent[:, 2] + recent[:, 6]
+        stored = stored_hist[-1]
+        if not (stored > 0 and recent[:, 7].max() < self.m.opts["tol"] * stored):
+            return False
+        return float(stored_hist.max() - stored_hist.min()) < self.m.opts["tol_energy"] * stored
 
     def _over_limit_text(self) -> str:
         n_steps, n_max, t0 = self.over_limit
@@ -426,7 +503,8 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
     res.timings["particle_steps_per_s"] = pt.P * run.steps / max(timings["run"], 1e-12)
     res.diagnostics.update({
         "time_steps": run.steps, "dt": model.dt, "time": run.t, "ramp_time": model.ramp_time,
-        "max_time": model.max_time, "T1_estimate": model.T1, "alpha": model.alpha,
+        "max_time": model.max_time, "T1_estimate": model.T1, "period_estimate": model.period,
+        "alpha": model.alpha, "adaptive_damping": model.adaptive_alpha,
         "particles": pt.P, "nodes": model.grid.N, "cell": model.grid.cell.tolist(),
         "ppc": opts["ppc"], "shape": opts["shape"], "update": opts["update"],
         "damping": opts["damping"], "stopped_by": run.stopped_by,
