@@ -49,16 +49,14 @@ def test_full_002_dls_all_methods_agree(Dt):
 
 
 def test_two_layer_mpm_vs_fem_energies():
-    """000 Fig 4A two-layer shear (reduced: 8 mm tall, 0.5 mm cells, Dt = 5, Dn = inf).
-
-    Strain energy within 0.5 % (measured 0.1 %). The interfacial energy is a small part
-    of the total (< 2 %, 000 Sec 3) and MPM's is 4.0 % above FEM here (8-12 % at 0.25 mm
-    cells on the full specimen): an open discrepancy tracked in issue #4, partly from the
-    specimen rotation entering the extrapolated nodal displacements (000 Eq 13); 000 Fig 5
-    shows MPM above FEA too. The 6 % bound catches a lost area correction (Eq 20: a
-    factor 2) or a missing 1/2 in the energy (Eq 18, ERRATA 10).
+    """000 Fig 4A two-layer shear (reduced: 8 mm tall, 0.5 mm cells, Dt = 5, Dn = inf)
+    through the comparison layer. Measured: strain energy -0.05 %, interfacial energy
+    +0.2 % (Dt = 5); the 2 % bound catches a lost area correction (Eq 20: a factor 2),
+    a missing 1/2 in the energy (Eq 18, ERRATA 10); reading the jumps at the fields'
+    centroids instead of the node costs +1.4 % here and +13 % at Dt = 100 (checked in
+    tests/mpm/test_mpm_validation_interfaces.py).
     """
     comp = compare(cases.build("two_layer", Dt=5.0, height=8.0, mpm_cell=0.5), "fem,mpm", progress=False)
     assert comp.reference == "fem"
     assert abs(comp.relative_difference("mpm", "strain_energy")) < 0.005
-    assert abs(comp.relative_difference("mpm", "interface_energy")) < 0.06
+    assert abs(comp.relative_difference("mpm", "interface_energy")) < 0.02

@@ -42,24 +42,42 @@ def test_short_dls_stiffness_matches_fem_and_shear_lag(Dt):
         assert rm.quantities["interface_energy"] == 0.0
 
 
-def test_two_layer_shear_energies_match_fem():
-    """000 Fig 4A two-layer shear (height 8 mm, Dt = 5, 0.5 mm cells).
+@pytest.mark.parametrize("Dt", [1.0, 10.0, 100.0])
+def test_two_layer_shear_energies_match_fem(Dt):
+    """000 Fig 4A two-layer shear (height 8 mm, 0.5 mm cells, Dn = inf) against FEM.
 
-    Strain energy agrees with FEM to 0.1 %; the interfacial energy is 4.3 % above FEM
-    at 0.5 mm cells and 3.8 % at 0.25 mm (a slowly converging excess that we attribute
-    to the multimaterial nodes near the free top corner of the interface), hence the
-    6 % bound on it.
+    Measured: interfacial energy +0.2 / +0.3 / +0.9 % and strain energy -0.04 / -0.05 /
+    -0.09 % for Dt = 1 / 10 / 100; W = U + K + D to 0.4 %. Two things had to be right for
+    this (both were wrong before): the run must reach the static state (adaptive damping
+    for the bending mode; the axial-period damping stopped it while the bending crept:
+    +9 % at Dt = 1) and the jump must be read at the node, not at the fields' centroids
+    (000 Eq 13 as printed, ``nodal_displacement="average"``: 0.0 / +2.9 / +13 %, from the
+    specimen rotation; mpm/extrapolation.py).
     """
-    case = two_layer(Dt=5.0, height=8.0, mpm_cell=0.5)
+    case = two_layer(Dt=Dt, height=8.0, mpm_cell=0.5)
     rm = mpm.solve(case, progress=False)
     rf = fem.solve(case)
-    assert rm.quantities["strain_energy"] == pytest.approx(rf.quantities["strain_energy"], rel=5e-3)
+    assert rm.diagnostics["stopped_by"] == "kinetic_energy"
+    assert rm.quantities["strain_energy"] == pytest.approx(rf.quantities["strain_energy"], rel=3e-3)
     assert rm.quantities["interface_energy"] == pytest.approx(rf.quantities["interface_energy"],
-                                                              rel=6e-2)
+                                                              rel=2.5e-2)
     q = rm.quantities
     assert q["external_work"] == pytest.approx(q["strain_energy"] + q["interface_energy"]
                                                + q["kinetic_energy"] + q["dissipated_energy"],
                                                rel=1e-2)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("Dt", [1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0])
+def test_two_layer_interfacial_energy_at_the_papers_grid(Dt):
+    """Issue #4 target: the full 000 Fig 4A specimen (20 mm tall) at 0.25 mm cells,
+    interfacial energy within 5 % of FEM for Dt = 1..100 (docs/two_layer_sweep_Dt.csv)."""
+    case = two_layer(Dt=Dt)
+    rm = mpm.solve(case, progress=False)
+    rf = fem.solve(case)
+    assert rm.quantities["interface_energy"] == pytest.approx(rf.quantities["interface_energy"],
+                                                              rel=5e-2)
+    assert rm.quantities["strain_energy"] == pytest.approx(rf.quantities["strain_energy"], rel=1e-2)
 
 
 @pytest.mark.slow
