@@ -355,6 +355,7 @@ class _Runner:
         if vtk_every:
             self._frame()
         cum_work = 0.0
+        shown = 0.0
         while self.steps < total_steps:
             n = min(interval, total_steps - self.steps, next_frame - self.steps)
             h = self._advance(n)
@@ -371,7 +372,9 @@ class _Runner:
             if self.steps >= next_frame:
                 self._frame()
                 next_frame += vtk_every
-            bar.update(self.steps / total_steps,
+            # the step limit grows when a slower mode is found: never move the bar back
+            shown = max(shown, self.steps / total_steps)
+            bar.update(shown,
                        f"t={self.t:.3g}s KE/U={h[-1, 7] / max(U + ui, 1e-300):.2e}")
             total_steps = self._adapt(total_steps)
             window = int(math.ceil(0.5 * m.period / m.dt))
