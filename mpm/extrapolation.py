@@ -15,12 +15,14 @@ centroids gives the same bias).
 
 :func:`displacement_to_nodes` removes that first-order error: along every axis d on
 which the centroid is off the node, the slope of the field is taken from the
-neighbouring node on the material's side, (u_k,i - u_k,j) / (X_k,i - X_k,j)_d, and
-the field is extrapolated from its centroid to the node,
+neighbouring node on the material's side; with one neighbour per axis the gradient G
+solves (X_k,i - X_k,j) G^T = (u_k,i - u_k,j) over those neighbours j, and the field is
+extrapolated from its centroid to the node,
 
-    u_k(x_i) = u_k,i + sum_d slope_d (x_i - X_k,i)_d,
+    u_k(x_i) = u_k,i + G (x_i - X_k,i),
 
-exact for a displacement field linear along d. For a node whose neighbour does not
+exact for a displacement field linear near the node (with fewer neighbours, the
+slopes along the available axes). For a node whose neighbour does not
 hold the material (thin layers, corners) the Eq 13 average is kept. Nodes where a
 contact pair (stick, friction) meets keep the Eq 13 average too: contact is detected
 from the sign of the normal separation, and the centroid gap (negative in compression,
@@ -35,6 +37,7 @@ from numba import njit
 
 from .multimaterial_constants import LAW_IMPERFECT, LAW_NONE, LAW_PERFECT
 from .multimaterial_kernels import _pair_law
+from .shape import SHAPE_CODES, shape_2d
 
 #: nodal displacement estimates at multimaterial nodes: 000 Eq 13 (centroid average)
 #: or its first-order extrapolation to the node
@@ -59,6 +62,10 @@ def displacement_to_nodes(mass, displacement, position, nodes, origin, cell, nn,
     count = 0
     idx = np.empty(D, np.int64)
     law = np.empty(4)
+    off = np.empty(D)
+    A = np.empty((D, D))      # rows: centroid differences to the neighbours (reference)
+    B = np.empty((D, D))      # rows: displacement differences
+    axis = np.empty(D, np.int64)
     for a in range(nodes.size):
         n = nodes[a]
         for f in range(M):
@@ -81,31 +88,57 @@ def displacement_to_nodes(mass, displacement, position, nodes, origin, cell, nn,
         for f in range(M):
             if mass[n, f] <= 0.0:
                 continue
-            corrected = False
+            needed = False
             for d in range(D):
-                xn = origin[d] + idx[d] * cell[d]
-                cen = position[n, f, d] - displacement[n, f, d]
-                off = cen - xn
-                if abs(off) < 1e-6 * cell[d]:
-                    continue
-                step = 1 if off > 0.0 else -1
-                k = idx[d] + step
-                if k < 0 or k >= nn[d]:
-                    continue
-                stride = 1
-                for e in range(d):
-                    stride *= nn[e]
-                m = n + step * stride
-                if mass[m, f] <= 0.0:
-                    continue
-                dX = cen - (position[m, f, d] - displacement[m, f, d])
-                if abs(dX) < 0.25 * cell[d]:
-                    continue  # the neighbour holds only the material's edge
+                off[d] = position[n, f, d] - displacement[n, f, d] - (origin[d] + idx[d] * cell[d])
+                if abs(off[d]) >= 1e-6 * cell[d]:
+                    needed = True
+            if not needed:
+                continue
+            # one neighbour per axis holding the material's interior: on the centroid's
+            # side (towards the particles) or, for an axis the centroid is not off, either
+            rows = 0
+            stride = 1
+            for d in range(D):
+                first = 1 if off[d] > 0.0 else -1
+                for attempt in range(2):
+                    step = first if attempt == 0 else -first
+                    if attempt == 1 and abs(off[d]) >= 1e-6 * cell[d]:
+                        break
+                    k = idx[d] + step
+                    if k < 0 or k >= nn[d]:
+                        continue
+                    m = n + step * stride
+                    if mass[m, f] <= 0.0:
+                        continue
+                    skew = 0.0
+                    for e in range(D):
+                        A[rows, e] = position[n, f, e] - displacement[n, f, e] \
+                            - (position[m, f, e] - displacement[m, f, e])
+                        B[rows, e] = displacement[n, f, e] - displacement[m, f, e]
+                        if e != d:
+                            skew = max(skew, abs(A[rows, e]) / cell[e])
+                    if abs(A[rows, d]) < 0.25 * cell[d] or skew > 0.25:
+                        continue  # the neighbour holds only the material's edge
+                    axis[rows] = d
+                    rows += 1
+                    break
+                stride *= nn[d]
+            if rows == D:
+                # full gradient: A G^T = B, exact for a linear field
+                Gt = np.linalg.solve(A, B)
                 for c in range(D):
-                    slope = (displacement[n, f, c] - displacement[m, f, c]) / dX
-                    work[a, f, c] -= slope * off
-                corrected = True
-            if corrected:
+                    s = 0.0
+                    for e in range(D):
+                        s += off[e] * Gt[e, c]
+                    work[a, f, c] = -s
+                count += 1
+            elif rows > 0:
+                # slopes along the available axes only
+                for r in range(rows):
+                    d = axis[r]
+                    for c in range(D):
+                        work[a, f, c] -= B[r, c] / A[r, d] * off[d]
                 count += 1
     for a in range(nodes.size):
         n = nodes[a]
@@ -113,3 +146,47 @@ def displacement_to_nodes(mass, displacement, position, nodes, origin, cell, nn,
             for c in range(D):
                 displacement[n, f, c] += work[a, f, c]
     return count
+
+
+@njit(cache=True)
+def _p2g_volume(x, field, V, origin, cell, nn, lp, kind, volume, gradient):
+    idx = np.empty(9, dtype=np.int64)
+    S = np.empty(9)
+    G = np.empty((9, 2))
+    for p in range(x.shape[0]):
+        c = shape_2d(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G)
+        if c < 0:
+            return p
+        f = field[p]
+        for q in range(c):
+            volume[idx[q], f] += S[q] * V
+            gradient[idx[q], f, 0] += G[q, 0] * V
+            gradient[idx[q], f, 1] += G[q, 1] * V
+    return -1
+
+
+def field_volumes(x: np.ndarray, field: np.ndarray, n_fields: int, origin, cell, nn,
+                  spacing, shape: str = "ugimp") -> tuple[np.ndarray, np.ndarray]:
+    """Nodal volume Omega_i = sum_p S_ip V_p (000 Eq 19) and volume gradient
+    sum_p G_ip V_p (000 Eq 33) of each material field, for a 2D particle set of
+    spacing ``spacing`` (V_p = spacing_x spacing_y, unit thickness, uGIMP half-width
+    spacing / 2), with the solver's shape functions (:mod:`mpm.shape`).
+
+    The inputs of the normals of 000 Sec 2.6 (MVG, AVG, RMVG) and of the contact-area
+    of Eq 20, e.g. to study normals on a particle cloud without running the solver.
+    Returns ``(volume[N, M], gradient[N, M, 2])``; raises ValueError if a particle's
+    support leaves the grid.
+    """
+    spacing = np.broadcast_to(np.asarray(spacing, float), (2,))
+    nn = np.asarray(nn, np.int64)
+    N = int(np.prod(nn))
+    volume = np.zeros((N, n_fields))
+    gradient = np.zeros((N, n_fields, 2))
+    lost = _p2g_volume(np.ascontiguousarray(x, dtype=float), np.asarray(field, dtype=np.int64),
+                       float(spacing[0] * spacing[1]), np.asarray(origin, float),
+                       np.asarray(cell, float), nn, 0.5 * spacing, SHAPE_CODES[shape],
+                       volume, gradient)
+    if lost >= 0:
+        raise ValueError(f"particle {lost} at {x[lost]} has shape-function support outside "
+                         f"the grid (origin {origin}, {nn.tolist()} nodes of {cell})")
+    return volume, gradient

@@ -11,13 +11,12 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from numba import njit
 
 from interfaces.case import InterfacePair
 from interfaces.errors import CaseError
 from interfaces.laws import BilinearNormalInterface, CoulombFriction, LinearInterface, StickContact
 from mpm import multimaterial as mm
-from mpm.shape import SHAPE_CODES, shape_2d
+from mpm.extrapolation import field_volumes
 from mpm.multimaterial_constants import (
     NODE_OUT_COLUMNS, OUT_AREA, OUT_ENERGY, OUT_JUMP_N, OUT_JUMP_T, OUT_STATUS, OUT_TRACTION_N,
     OUT_TRACTION_T, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_OVER_LIMIT, STATUS_SCREENED,
@@ -469,35 +468,10 @@ def test_h_perp_eq22_matches_ellipse_tangent_construction():
     assert mm.h_perp(n3, t3, np.array([1.0, 2.0, 3.0]), 1) == pytest.approx(3.0, rel=1e-12)
 
 
-@njit
-def _p2g_volume(x, field, V, origin, cell, nn, lp, kind, mass, grad):
-    idx = np.empty(9, dtype=np.int64)
-    S = np.empty(9)
-    G = np.empty((9, 2))
-    for p in range(x.shape[0]):
-        c = shape_2d(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G)
-        if c < 0:
-            return p
-        f = field[p]
-        for q in range(c):
-            mass[idx[q], f] += S[q] * V
-            grad[idx[q], f, 0] += G[q, 0] * V
-            grad[idx[q], f, 1] += G[q, 1] * V
-    return -1
-
-
 def extrapolate(x, field, n_fields, origin, cell, nn, spacing, shape="ugimp"):
-    """Field mass (unit density), volume (000 Eq 19) and volume gradient (Eq 33) on the
-    grid from particles, with the core's shape functions (mpm.shape.shape_2d)."""
-    N = int(np.prod(nn))
-    mass = np.zeros((N, n_fields))
-    grad = np.zeros((N, n_fields, 2))
-    lost = _p2g_volume(np.ascontiguousarray(x, dtype=float), np.asarray(field, dtype=np.int64),
-                       float(spacing[0] * spacing[1]), np.asarray(origin, float),
-                       np.asarray(cell, float), np.asarray(nn, np.int64),
-                       0.5 * np.asarray(spacing, float), SHAPE_CODES[shape], mass, grad)
-    assert lost < 0
-    return mass, mass.copy(), grad
+    """Field mass (unit density), volume (000 Eq 19) and volume gradient (Eq 33)."""
+    vol, grad = field_volumes(x, field, n_fields, origin, cell, nn, spacing, shape)
+    return vol, vol.copy(), grad
 
 
 def extrapolated_interface(theta_deg, shape="ugimp", cell=0.5, ppc=2):

@@ -6,42 +6,16 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from numba import njit
 
 from interfaces.laws import CoulombFriction
 from mpm import multimaterial as mm
 from mpm.multimaterial_lr import logistic_plane, lr_normals_separations
-from mpm.shape import SHAPE_CODES, shape_2d
-
-
-@njit
-def _p2g_volume(x, field, V, origin, cell, nn, lp, kind, mass, grad):
-    idx = np.empty(9, dtype=np.int64)
-    S = np.empty(9)
-    G = np.empty((9, 2))
-    for p in range(x.shape[0]):
-        c = shape_2d(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G)
-        if c < 0:
-            return p
-        f = field[p]
-        for q in range(c):
-            mass[idx[q], f] += S[q] * V
-            grad[idx[q], f, 0] += G[q, 0] * V
-            grad[idx[q], f, 1] += G[q, 1] * V
-    return -1
+from mpm.extrapolation import field_volumes
 
 
 def extrapolate(x, field, n_fields, origin, cell, nn, spacing):
     """Unit-density field mass (= volume) and volume gradient with uGIMP (mpm.shape)."""
-    N = int(np.prod(nn))
-    mass = np.zeros((N, n_fields))
-    grad = np.zeros((N, n_fields, 2))
-    lost = _p2g_volume(np.ascontiguousarray(x, dtype=float), np.asarray(field, dtype=np.int64),
-                       float(spacing * spacing), np.asarray(origin, float), np.asarray(cell, float),
-                       np.asarray(nn, np.int64), np.full(2, 0.5 * spacing), SHAPE_CODES["ugimp"],
-                       mass, grad)
-    assert lost < 0
-    return mass, grad
+    return field_volumes(x, field, n_fields, origin, cell, nn, spacing)
 
 
 def block(x0, y0, x1, y1, h):
