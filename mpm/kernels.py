@@ -7,8 +7,13 @@ optional PIC blend) -> stress update: USL (default, updated grid velocities), MU
 momenta re-extrapolated from the updated particles, robust on boundaries that cut
 cells) or USF (phase-0 corrected initial extrapolation, before the internal force).
 
-P2G scatters serially (numba has no CPU atomics; a serial scatter is race-free and,
-at 2 cores shared by several jobs, as fast as per-thread grids plus a reduction).
+The particle loops are written over a particle range (``p2g_range_2d``,
+``g2p_range_2d``): the serial kernels run them over all particles, mpm/parallel.py over
+contiguous blocks in parallel (race-free P2G: one nodal buffer per block, numba has no
+CPU atomics). Whole chunks of steps run compiled in mpm/chunk.py and
+mpm/chunk_multimaterial.py. Hot loops take the 1D shape weights as scalars
+(:func:`mpm.shape.axis_weights_tuple`) and keep work arrays local: passing arrays into
+inlined helpers per particle costs numba reference-count calls (halved P2G speed).
 3D kernels are an addition with the same signatures (``shape_3d``, ``p2g_3d``, ...).
 """
 from __future__ import annotations
@@ -16,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .shape import axis_weights, shape_2d_work
+from .shape import axis_weights, axis_weights_tuple, shape_2d_work
 
 #: stress-update schemes: update stress last (grid velocities after the momentum
 #: update), first (initial extrapolation), modified USL (re-extrapolated particle momenta)
@@ -39,6 +44,12 @@ def _support(x, y, origin, cell, nn, lp, kind, wx, dwx, wy, dwy):
     return i0, j0, nax, nay
 
 
+
+
+@njit(cache=True, inline="always")
+def _inside(i0, j0, nax, nay, nn) -> bool:
+    """True when the support (i0.., j0..) of nax x nay nodes lies on the grid."""
+    return i0 >= 0 and j0 >= 0 and i0 + nax <= nn[0] and j0 + nay <= nn[1]
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
@@ -100,8 +111,23 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
     integrated over the particle-domain edge as for GIMP tractions); with ``multi`` also
     volume, volume gradient, mass-weighted displacement and position (divided by the
     field mass at the end). Returns -1, or the index of a particle whose support
-    left the grid.
+    left the grid. Serial scatter; :func:`mpm.parallel.p2g_blocks_2d` is the race-free
+    parallel form.
     """
+    zero_nodal(multi, mass, mom, force, volume, volgrad, disp, pos)
+    lost = p2g_range_2d(0, x.shape[0], x, v, pmass, pvol, stress, field, x0, origin, cell, nn,
+                        lp, kind, multi, internal, mass, mom, force, volume, volgrad, disp, pos)
+    if lost >= 0:
+        return lost
+    p2g_tractions_2d(x, field, fext, foff, load_scale, origin, cell, nn, lp, kind, force)
+    if multi:
+        normalise_fields(mass, disp, pos)
+    return -1
+
+
+@njit(cache=True)
+def zero_nodal(multi, mass, mom, force, volume, volgrad, disp, pos):
+    """Zero the nodal arrays P2G fills (the multimaterial ones with ``multi``)."""
     mass[:] = 0.0
     mom[:] = 0.0
     force[:] = 0.0
@@ -110,13 +136,27 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
         volgrad[:] = 0.0
         disp[:] = 0.0
         pos[:] = 0.0
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def p2g_range_2d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, kind,
+                 multi, internal, mass, mom, force, volume, volgrad, disp, pos):
+    """Scatter of particles lo..hi-1 (mass, momentum, internal force and, with
+    ``multi``, the unnormalised multimaterial sums) into the given nodal arrays,
+    added to what they hold. Returns the first particle whose support leaves the grid
+    (the scatter stops there) or -1."""
     wx = np.empty(3)
     dwx = np.empty(3)
     wy = np.empty(3)
     dwy = np.empty(3)
     nx = nn[0]
-    for p in range(x.shape[0]):
-        i0, j0, nax, nay = _support(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, dwx, wy, dwy)
+    for p in range(lo, hi):
+        i0, nax, wx[0], wx[1], wx[2], dwx[0], dwx[1], dwx[2] = axis_weights_tuple(
+            x[p, 0], origin[0], cell[0], lp[0], kind)
+        j0, nay, wy[0], wy[1], wy[2], dwy[0], dwy[1], dwy[2] = axis_weights_tuple(
+            x[p, 1], origin[1], cell[1], lp[1], kind)
+        if not _inside(i0, j0, nax, nay, nn):
+            nax = -1
         if nax < 0:
             return p
         f = field[p]
@@ -152,6 +192,17 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
                     disp[n, f, 1] += s * m * (x[p, 1] - x0[p, 1])
                     pos[n, f, 0] += s * m * x[p, 0]
                     pos[n, f, 1] += s * m * x[p, 1]
+    return -1
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def p2g_tractions_2d(x, field, fext, foff, load_scale, origin, cell, nn, lp, kind, force):
+    """Add the ramped particle traction forces ``load_scale * fext`` to ``force`` at the
+    nodes of the loaded particle edges (:func:`_traction_weights`)."""
+    wx = np.empty(3)
+    dwx = np.empty(3)
+    wy = np.empty(3)
+    dwy = np.empty(3)
     qx = np.empty(3)
     dqx = np.empty(3)
     qy = np.empty(3)
@@ -167,15 +218,18 @@ def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
             for k in range(c):
                 force[tidx[k], f, 0] += tw[k] * fext[p, 0] * load_scale
                 force[tidx[k], f, 1] += tw[k] * fext[p, 1] * load_scale
-    if multi:
-        for n in range(mass.shape[0]):
-            for f in range(mass.shape[1]):
-                if mass[n, f] > 0.0:
-                    inv = 1.0 / mass[n, f]
-                    for d in range(2):
-                        disp[n, f, d] *= inv
-                        pos[n, f, d] *= inv
-    return -1
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def normalise_fields(mass, disp, pos):
+    """Mass-weighted sums of displacement and position -> field averages (000 Eq 13)."""
+    for n in range(mass.shape[0]):
+        for f in range(mass.shape[1]):
+            if mass[n, f] > 0.0:
+                inv = 1.0 / mass[n, f]
+                for d in range(2):
+                    disp[n, f, d] *= inv
+                    pos[n, f, d] *= inv
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
@@ -307,8 +361,18 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
     field, from :func:`nodal_kinematics`;
     V <- (1 - pic)(V + dt S a) + pic S v+; x <- x + dt S v+; L = sum v+ (x) grad S.
     Returns (kinetic energy, strain energy, work of the external forces this step,
-    index of a particle that left the grid or -1).
+    index of a particle that left the grid or -1). Serial;
+    :func:`mpm.parallel.g2p_blocks_2d` runs :func:`g2p_range_2d` over particle blocks.
     """
+    return g2p_range_2d(0, x.shape[0], x, v, pmass, pvol, pvol0, stress, strain, field, fext,
+                        foff, load_scale, C, origin, cell, nn, lp, kind, dt, pic,
+                        update_stress, nvel, nacc)
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
+                 load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc):
+    """:func:`g2p_2d` for particles lo..hi-1 (each particle only touches its own data)."""
     wx = np.empty(3)
     dwx = np.empty(3)
     wy = np.empty(3)
@@ -328,8 +392,13 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
     tidx = np.empty(9, np.int64)
     tw = np.empty(9)
     nx = nn[0]
-    for p in range(x.shape[0]):
-        i0, j0, nax, nay = _support(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, dwx, wy, dwy)
+    for p in range(lo, hi):
+        i0, nax, wx[0], wx[1], wx[2], dwx[0], dwx[1], dwx[2] = axis_weights_tuple(
+            x[p, 0], origin[0], cell[0], lp[0], kind)
+        j0, nay, wy[0], wy[1], wy[2], dwy[0], dwy[1], dwy[2] = axis_weights_tuple(
+            x[p, 1], origin[1], cell[1], lp[1], kind)
+        if not _inside(i0, j0, nax, nay, nn):
+            nax = -1
         if nax < 0:
             lost = p
             continue
@@ -397,7 +466,12 @@ def stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, 
     nx = nn[0]
     U = 0.0
     for p in range(x.shape[0]):
-        i0, j0, nax, nay = _support(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, dwx, wy, dwy)
+        i0, nax, wx[0], wx[1], wx[2], dwx[0], dwx[1], dwx[2] = axis_weights_tuple(
+            x[p, 0], origin[0], cell[0], lp[0], kind)
+        j0, nay, wy[0], wy[1], wy[2], dwy[0], dwy[1], dwy[2] = axis_weights_tuple(
+            x[p, 1], origin[1], cell[1], lp[1], kind)
+        if not _inside(i0, j0, nax, nay, nn):
+            nax = -1
         f = field[p]
         L00 = 0.0
         L01 = 0.0
@@ -435,7 +509,12 @@ def p2g_momentum_2d(x, v, pmass, field, origin, cell, nn, lp, kind, mass, mom):
     dwy = np.empty(3)
     nx = nn[0]
     for p in range(x.shape[0]):
-        i0, j0, nax, nay = _support(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, dwx, wy, dwy)
+        i0, nax, wx[0], wx[1], wx[2], dwx[0], dwx[1], dwx[2] = axis_weights_tuple(
+            x[p, 0], origin[0], cell[0], lp[0], kind)
+        j0, nay, wy[0], wy[1], wy[2], dwy[0], dwy[1], dwy[2] = axis_weights_tuple(
+            x[p, 1], origin[1], cell[1], lp[1], kind)
+        if not _inside(i0, j0, nax, nay, nn):
+            nax = -1
         if nax < 0:
             continue
         f = field[p]
@@ -459,7 +538,23 @@ def set_velocity_bc(mass, mom, bc_node, bc_field, bc_comp, bc_vel):
         mom[n, f, bc_comp[b]] = mass[n, f] * bc_vel[b]
 
 
-# ------------------------------------------------ single-material chunk ----
+# ------------------------------------------------------------------ time ----
+
+
+@njit(cache=True)
+def step_velocities(t, dt, bc_vel, bc_tend, vel):
+    """Nodal condition velocities for the step t -> t + dt: ``bc_vel`` while the
+    condition lasts (t < ``bc_tend``), scaled by the fraction of the step before
+    ``bc_tend`` so a displacement u imposed as u / T over T moves by exactly u whatever
+    T / dt is (ceil(T / dt) full steps overshoot by up to dt / T)."""
+    for b in range(bc_vel.size):
+        frac = (bc_tend[b] - t) / dt
+        if frac >= 1.0:
+            vel[b] = bc_vel[b]
+        elif frac > 0.0:
+            vel[b] = bc_vel[b] * frac
+        else:
+            vel[b] = 0.0
 
 
 @njit(cache=True)
@@ -468,67 +563,3 @@ def ramp(t, ramp_time):
     if ramp_time <= 0.0 or t >= ramp_time:
         return 1.0
     return t / ramp_time
-
-
-@njit(cache=True)
-def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, mode,
-                 x, v, pmass, pvol, pvol0, stress, strain, field, x0, fext, foff, C,
-                 origin, cell, nn, lp, kind,
-                 mass, mom, force, volume, volgrad, disp, pos, nvel, nacc,
-                 bc_node, bc_field, bc_comp, bc_vel, bc_tend,
-                 hist, ke_prev):
-    """``nsteps`` complete time steps of a run without multimaterial nodes.
-
-    The whole step sequence stays compiled; Python only runs between output
-    intervals. ``hist[s] = (t, kinetic, strain, work_ext, dissipated, work_bc,
-    interface (0 here), grid kinetic)`` after step s (the work and dissipation
-    columns are the increments of that step). ``bc_vel`` applies
-    until ``bc_tend`` (then 0: a ramped prescribed displacement). Kinetic damping
-    zeroes the particle velocities whenever the kinetic energy has just peaked.
-    Returns (number of steps done, index of a lost particle or -1, last kinetic
-    energies (ke_prev updated in place)).
-    """
-    vel = np.empty_like(bc_vel)
-    t = t0
-    for s in range(nsteps):
-        scale = ramp(t, ramp_time)
-        lost = p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, scale,
-                      origin, cell, nn, lp, kind, False, mode != USF,
-                      mass, mom, force, volume, volgrad, disp, pos)
-        if lost >= 0:
-            return s, lost
-        if mode == USF:
-            stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn, lp,
-                                kind, dt, mass, mom)
-            p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force)
-        for b in range(bc_vel.size):
-            vel[b] = bc_vel[b] if t < bc_tend[b] else 0.0
-        diss, wbc = grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, vel)
-        ke_grid = nodal_kinematics(mass, mom, force, nvel, nacc)
-        ke, U, work, lost = g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext,
-                                   foff, scale, C, origin, cell, nn, lp, kind, dt, pic,
-                                   mode == USL, nvel, nacc)
-        if lost >= 0:
-            return s, lost
-        if mode == MUSL:
-            p2g_momentum_2d(x, v, pmass, field, origin, cell, nn, lp, kind, mass, mom)
-            set_velocity_bc(mass, mom, bc_node, bc_field, bc_comp, vel)
-            U = stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn,
-                                    lp, kind, dt, mass, mom)
-        t += dt
-        if kinetic_damping and ke < ke_prev[0] and ke_prev[0] >= ke_prev[1]:
-            v[:] = 0.0
-            diss += ke
-            ke = 0.0
-        ke_prev[1] = ke_prev[0]
-        ke_prev[0] = ke
-        hist[s, 0] = t
-        hist[s, 1] = ke
-        hist[s, 2] = U
-        hist[s, 3] = work
-        hist[s, 4] = diss
-        hist[s, 5] = wbc
-        hist[s, 7] = ke_grid
-        if not np.isfinite(ke):
-            return s + 1, -1
-    return nsteps, -1

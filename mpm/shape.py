@@ -44,35 +44,38 @@ def gimp_1d(r: float, h: float, lp: float):
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
-def axis_weights(x: float, o: float, h: float, lp: float, kind: int,
-                 w: np.ndarray, dw: np.ndarray):
-    """Fill w[k], dw[k] for the nodes i0 + k, k < count, along one axis; return (i0, count).
+def axis_weights_tuple(x: float, o: float, h: float, lp: float, kind: int):
+    """1D weights of one particle along one axis as scalars:
+    (i0, count, w0, w1, w2, dw0, dw1, dw2) for the nodes i0 + k, k < count.
 
     Linear: i0 = floor((x - o)/h), nodes i0, i0+1. uGIMP: the nodes within h + l_p of x
     (l_p <= h/2): nearest node +- 1, trimmed to 2 when an end node has zero weight
     and gradient (undeformed particles of a 2-per-cell lattice touch 2 nodes per axis).
+    Unused slots are 0. Returning scalars (not filling arrays) keeps the hot particle
+    loops free of numba reference-count calls on the work arrays (2x faster P2G).
     """
     xi = (x - o) / h
     if kind == LINEAR:
         i0 = int(np.floor(xi))
         r = xi - i0  # in [0, 1): the gradient is the one of the cell containing x
-        w[0] = 1.0 - r
-        w[1] = r
-        dw[0] = -1.0 / h
-        dw[1] = 1.0 / h
-        return i0, 2
+        return i0, 2, 1.0 - r, r, 0.0, -1.0 / h, 1.0 / h, 0.0
     i0 = int(np.floor(xi + 0.5)) - 1
-    for k in range(3):
-        w[k], dw[k] = gimp_1d(x - (o + (i0 + k) * h), h, lp)
-    if w[0] == 0.0 and dw[0] == 0.0:
-        w[0] = w[1]
-        dw[0] = dw[1]
-        w[1] = w[2]
-        dw[1] = dw[2]
-        return i0 + 1, 2
-    if w[2] == 0.0 and dw[2] == 0.0:
-        return i0, 2
-    return i0, 3
+    w0, d0 = gimp_1d(x - (o + i0 * h), h, lp)
+    w1, d1 = gimp_1d(x - (o + (i0 + 1) * h), h, lp)
+    w2, d2 = gimp_1d(x - (o + (i0 + 2) * h), h, lp)
+    if w0 == 0.0 and d0 == 0.0:
+        return i0 + 1, 2, w1, w2, 0.0, d1, d2, 0.0
+    if w2 == 0.0 and d2 == 0.0:
+        return i0, 2, w0, w1, 0.0, d0, d1, 0.0
+    return i0, 3, w0, w1, w2, d0, d1, d2
+
+
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def axis_weights(x: float, o: float, h: float, lp: float, kind: int,
+                 w: np.ndarray, dw: np.ndarray):
+    """:func:`axis_weights_tuple` written into w[k], dw[k]; returns (i0, count)."""
+    i0, c, w[0], w[1], w[2], dw[0], dw[1], dw[2] = axis_weights_tuple(x, o, h, lp, kind)
+    return i0, c
 
 
 @njit(cache=True)

@@ -30,12 +30,25 @@ from .measure import interface_profile, line_profiles, stiffness_quantities
 from .options import merge
 from .particles import apply_tractions, generate
 from .progress import ProgressBar
+from .rigid import with_rigid_conditions
 from .shape import SHAPE_CODES
 from .vtk import write_vtk_series
 
-from .multimaterial_constants import OUT_STATUS, S_FORCE_LIMIT, STATUS_OVER_LIMIT
+from .multimaterial_constants import (OUT_STATUS, S_FORCE_LIMIT, STATUS_INTERFACE,
+                                      STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_OVER_LIMIT)
 
 _OVER_LIMIT = int(STATUS_OVER_LIMIT)
+
+#: warn about force-limited interface nodes when min(D) h / E is below this
+LIMITED_COMPLIANCE_RATIO = 10.0
+
+
+def _law_stiffnesses(law) -> list[float]:
+    """Finite, nonzero stiffnesses (MPa/mm) of an interface law's springs."""
+    values = [getattr(law, name, None) for name in ("Dn", "Dt", "Dn_tension")]
+    return [float(v) for v in values
+            if isinstance(v, (int, float)) and math.isfinite(v) and v > 0.0]
+
 
 #: adaptive damping follows periods up to this multiple of the axial estimate T1 = 4 L / c
 MAX_PERIOD_RATIO = 50.0
@@ -67,9 +80,25 @@ class Model:
         self.nodal = NodalFields(self.grid.N, self.M, 2)
         mats = [case.materials[b.material] for b in case.bodies]
         self.C = np.ascontiguousarray(np.array([m.stiffness(case.analysis) for m in mats], float))
-        # time scales: CFL step and an estimated lowest period T1 = 4 L / c (fixed-free bar)
-        c_max = max(m.wave_speed(case.analysis) for m in mats)
-        c_min = min(math.sqrt(min(C[0, 0], C[1, 1]) / m.rho) for C, m in zip(self.C, mats))
+        self.tables = None
+        self.node_out = None
+        rigid = np.zeros(self.M, bool)
+        if self.M > 1:
+            from . import multimaterial as mm
+            self.tables = mm.build_pair_tables(case, opts, node_coordinates=self.grid.node_positions())
+            self.node_out = np.zeros((self.grid.N, mm.NODE_OUT_COLUMNS))
+            rigid = self.tables.rigid.astype(bool)
+        if rigid.all():
+            raise CaseError("mpm option rigid_bodies: at least one body must be deformable")
+        for k, bc in enumerate(case.boundary_conditions):
+            if bc.kind == "traction" and rigid[case.body_index(bc.body)]:
+                raise CaseError(f"boundary_conditions[{k}]: body {bc.body!r} is rigid; give it a "
+                                "velocity or displacement instead of a traction")
+        # time scales: CFL step and an estimated lowest period T1 = 4 L / c (fixed-free bar),
+        # from the deformable bodies (a rigid body's material only sets its mass)
+        deformable = [(C, m) for C, m, r in zip(self.C, mats, rigid) if not r]
+        c_max = max(m.wave_speed(case.analysis) for _, m in deformable)
+        c_min = min(math.sqrt(min(C[0, 0], C[1, 1]) / m.rho) for C, m in deformable)
         self.dt = opts["dt"] or opts["cfl"] * float(np.min(self.grid.cell)) / c_max
         length = float(np.max(hi - lo))
         self.T1 = 4.0 * length / c_min
@@ -90,14 +119,11 @@ class Model:
             raise CaseError(f"mpm option alpha = {self.alpha:g} 1/s is too large for dt = {self.dt:g} s "
                             "(alpha dt must be <= 0.5): lower alpha")
         self.bcs = nodal_conditions(case, self.grid, self.ramp_time)
+        if rigid.any():
+            self.bcs = with_rigid_conditions(case, self.bcs, rigid, self.grid.N, self.grid.D,
+                                             self.ramp_time)
         if opts["update"] == "auto":
             opts["update"] = "usl" if _grid_aligned(case, self.grid) else "musl"
-        self.tables = None
-        self.node_out = None
-        if self.M > 1:
-            from . import multimaterial as mm
-            self.tables = mm.build_pair_tables(case, opts, node_coordinates=self.grid.node_positions())
-            self.node_out = np.zeros((self.grid.N, mm.NODE_OUT_COLUMNS))
         self.force_limiting = self.tables is None or \
             bool(self.tables.settings[S_FORCE_LIMIT] != 0.0)
 
@@ -205,15 +231,20 @@ class _Runner:
         hist = np.zeros((nsteps, len(HIST_COLUMNS)))
         mode = K.UPDATE_CODES[m.opts["update"]]
         kinetic = m.opts["damping"] == "kinetic"
+        from .chunk import run_chunk_2d
+        from .parallel import BlockBuffers, default_blocks
+        if getattr(self, "block_buffers", None) is None:
+            # particle blocks of the race-free parallel P2G/G2P (mpm/parallel.py)
+            self.block_buffers = BlockBuffers(default_blocks(pt.P), m.grid.N, m.M, m.M > 1)
         if m.M == 1:
-            done, lost = K.run_chunk_2d(
+            done, lost = run_chunk_2d(
                 nsteps, self.t, m.dt, m.ramp_time, m.alpha, kinetic, m.opts["pic"], mode,
                 pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                 pt.x0, pt.fext, pt.foff, m.C, m.grid.origin, m.grid.cell, m.grid.nn, pt.lp, m.kind,
                 nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
                 nd.displacement, nd.position, nd.velocity, nd.acceleration,
                 bc.node, bc.field, bc.comp, bc.vel, bc.t_end,
-                hist, self.ke_prev)
+                hist, self.ke_prev, *self.block_buffers.arrays())
         else:
             done, lost = self._advance_multimaterial(nsteps, hist, mode, kinetic)
         self.steps += done
@@ -227,11 +258,35 @@ class _Runner:
         return hist[:done]
 
     def _advance_multimaterial(self, nsteps, hist, mode, kinetic):
-        """Python-level step loop around compiled kernels for runs with 2+ fields."""
+        """Steps of a run with 2+ fields: one compiled chunk
+        (:func:`mpm.chunk_multimaterial.run_chunk_multimaterial_2d`) unless normals or
+        separations come from logistic regression or ``chunk_multimaterial.COMPILED`` is
+        off; then this Python-level step loop around the compiled kernels (the reference
+        the compiled chunk equals)."""
+        from . import chunk_multimaterial as CM
         from . import multimaterial as mm
         m = self.m
         pt, nd, bc, g = m.particles, m.nodal, m.bcs, m.grid
         thick = m.case.thickness
+        if CM.COMPILED and not m.tables.uses_lr:
+            tb = m.tables
+            node_out = m.node_out if m.node_out is not None else np.zeros((0, mm.NODE_OUT_COLUMNS))
+            over = np.array(self.over_limit, dtype=float)
+            done, lost = CM.run_chunk_multimaterial_2d(
+                nsteps, self.t, m.dt, m.ramp_time, m.alpha, kinetic, m.opts["pic"], mode,
+                m.opts["nodal_displacement"] == "linear", tb.has_interfaces,
+                tb.has_interfaces and not m.force_limiting,
+                pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
+                pt.x0, pt.fext, pt.foff, m.C, g.origin, g.cell, g.nn, pt.lp, m.kind,
+                nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
+                nd.displacement, nd.position, nd.velocity, nd.acceleration,
+                bc.node, bc.field, bc.comp, bc.vel, bc.t_end,
+                np.ascontiguousarray(np.atleast_1d(np.asarray(thick, dtype=np.float64))),
+                tb.law_kind, tb.law_params, tb.settings, tb.rigid, tb.node_zone, tb.zone_pairs,
+                tb.zone_kind, tb.zone_params, node_out, over,
+                hist, self.ke_prev, *self.block_buffers.arrays())
+            self.over_limit = [int(over[0]), int(over[1]), float(over[2])]
+            return done, lost
         vel = np.empty_like(bc.vel)
         with_interface = m.tables.has_interfaces
         uses_lr = m.tables.uses_lr
@@ -294,8 +349,7 @@ class _Runner:
                         self.over_limit[1] = max(self.over_limit[1], over)
                         if self.over_limit[2] < 0:
                             self.over_limit[2] = t
-            for b in range(bc.size):
-                vel[b] = bc.vel[b] if t < bc.t_end[b] else 0.0
+            K.step_velocities(t, m.dt, bc.vel, bc.t_end, vel)
             diss, wbc = K.grid_update(nd.mass, nd.momentum, nd.force, m.dt, m.alpha,
                                       bc.node, bc.field, bc.comp, vel)
             if multi:
@@ -400,6 +454,9 @@ class _Runner:
                 f"tol = {m.opts['tol']:g} x stored energy; increase max_time or damping")
         if self.over_limit[0]:
             self.warnings.append(self._over_limit_text())
+        limited = self._limited_text()
+        if limited:
+            self.warnings.append(limited)
         if vtk_every and self.frames and self.frames[-1][0] < self.t:
             self._frame()
 
@@ -459,6 +516,33 @@ class _Runner:
                 f"centre of mass in one step) on {n_steps} steps (up to {n_max} nodes, first "
                 f"at t = {t0:.4g} s): the explicit interface is unstable there and the "
                 "results are unreliable; enable force_limiting, lower Dn/Dt or reduce dt (cfl)")
+
+    def _limited_text(self) -> str:
+        """Warning when force limiting (000 Eq 23-27) holds interface nodes perfect at the
+        end although the law's compliance is not negligible: the explicit bound
+        D A dt^2 > m_red is a property of the time step and the nodal masses, not of the
+        physics, and a limited node has no spring compliance (stiffer answer)."""
+        m = self.m
+        if m.tables is None or not m.tables.has_interfaces or not m.force_limiting:
+            return ""
+        status = m.node_out[:, OUT_STATUS].astype(np.int64)
+        active = (status & int(STATUS_INTERFACE)) != 0
+        limited = active & ((status & int(STATUS_LIMITED_N + STATUS_LIMITED_T)) != 0)
+        if not limited.any():
+            return ""
+        stiff = [D for pair in m.case.interfaces for D in _law_stiffnesses(pair.law)]
+        if not stiff:
+            return ""
+        E = max(float(np.max(np.diag(C)[:2])) for C in m.C)
+        ratio = min(stiff) * float(np.min(m.grid.cell)) / E
+        if ratio >= LIMITED_COMPLIANCE_RATIO:
+            return ""
+        return (f"mpm: force limiting (000 Eq 23-27) holds {int(limited.sum())} of "
+                f"{int(active.sum())} interface nodes perfect at the end of the run: there "
+                f"D A dt^2 exceeds the reduced nodal mass, so the spring is not resolved "
+                f"by this time step, yet its compliance is not negligible (D h / E = "
+                f"{ratio:.3g} < {LIMITED_COMPLIANCE_RATIO:g}); the result is stiffer than "
+                f"the law. Lower cfl (dt = {m.dt:.3g} s) until no node is limited")
 
     def _advice(self) -> str:
         if self.m.tables is not None and self.m.tables.has_interfaces and not self.m.force_limiting:

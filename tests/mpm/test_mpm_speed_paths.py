@@ -1,0 +1,180 @@
+"""The fast MPM paths against their references.
+
+* the compiled multimaterial chunk (mpm/chunk_multimaterial.py) against the
+  Python-driven step loop it replaces (``_Runner._advance_multimaterial`` with
+  ``chunk_multimaterial.COMPILED = False``): bit-identical, same node kernels;
+* the block-parallel P2G/G2P (mpm/parallel.py) against one serial block: equal to
+  round-off (only the order of the nodal sums changes), and bit-identical whatever the
+  number of threads executing the blocks;
+* the scalar 1D shape weights of the hot loops against the uGIMP formula.
+"""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cases.library import dls, two_layer
+from mpm import chunk_multimaterial as CM
+from mpm.options import merge
+from mpm.parallel import BlockBuffers
+from mpm.shape import LINEAR, UGIMP, axis_weights_tuple, gimp_1d
+from mpm.solver import Model, _Runner
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _run(case, overrides: dict, steps: int, compiled: bool = True, blocks: int = 1):
+    old = CM.COMPILED
+    CM.COMPILED = compiled
+    try:
+        model = Model(case, merge(case, dict({"progress": False}, **overrides)))
+        run = _Runner(model)
+        run.block_buffers = BlockBuffers(blocks, model.grid.N, model.M, model.M > 1)
+        hist = run._advance(steps)
+    finally:
+        CM.COMPILED = old
+    return model, run, hist
+
+
+def _state(model, run, hist) -> dict:
+    pt = model.particles
+    out = {"x": pt.x, "v": pt.v, "stress": pt.stress, "strain": pt.strain, "volume": pt.volume,
+           "hist": hist, "mass": model.nodal.mass, "force": model.nodal.force}
+    if model.node_out is not None:
+        out["node_out"] = model.node_out
+    return out
+
+
+CASES = {
+    # imperfect interfaces with force limiting, USL, grid damping (002 DLS at 0.4 mm)
+    "dls_imperfect_usl": (lambda: dls(Dt=5.0, Dn=50.0, mpm_cell=0.4), {}, 160),
+    # perfect bond, MUSL with the re-extrapolated contact correction, kinetic damping
+    "dls_perfect_musl_kinetic": (lambda: dls(mpm_cell=0.4), {"update": "musl",
+                                                             "damping": "kinetic"}, 160),
+    # stiff interface without force limiting: the over-limit counter runs (the run
+    # diverges, a particle leaves the grid at step 6: compare the first 5 steps)
+    "two_layer_unlimited": (lambda: two_layer(Dt=1e6, width=2.0, height=4.0, mpm_cell=0.5),
+                            {"force_limiting": False}, 5),
+}
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_mpm_compiled_multimaterial_chunk_equals_python_loop(name):
+    make, overrides, steps = CASES[name]
+    case = make()
+    a = _run(case, overrides, steps, compiled=False)
+    b = _run(case, overrides, steps, compiled=True)
+    sa, sb = _state(*a), _state(*b)
+    assert a[2].shape == b[2].shape == (steps, 8)
+    moved = np.abs(sa["x"] - a[0].particles.x0).max()
+    assert moved > 0.0 and np.abs(sa["hist"][:, 2]).max() > 0.0  # the run did something
+    for key in sa:
+        assert np.array_equal(sa[key], sb[key]), f"{name}: {key} differs"
+    assert a[1].over_limit == b[1].over_limit
+    if name == "two_layer_unlimited":
+        assert b[1].over_limit[0] > 0  # the counter was exercised
+
+
+def _block():
+    """One body (single-material compiled chunk): fixed bottom, sheared top."""
+    from interfaces import Body, BoundaryCondition, Case, IsotropicElastic, Rectangle
+    mat = IsotropicElastic(E=1000.0, nu=0.3, rho=1e-9)
+    return Case(name="block", analysis="plane_strain", thickness=1.0, materials={"m": mat},
+                bodies=[Body("b", Rectangle(0, 0, 10, 10), "m")],
+                boundary_conditions=[
+                    BoundaryCondition("fixed", "b", "ymin", ("x", "y"), (0.0, 0.0)),
+                    BoundaryCondition("traction", "b", "ymax", ("x", "y"), (1.0, -5.0))])
+
+
+def _rel(a, b) -> float:
+    return float(np.abs(a - b).max() / max(np.abs(a).max(), 1e-300))
+
+
+@pytest.mark.parametrize("name,case,overrides", [
+    ("single_block", lambda: _block(), {"cell": 0.25}),
+    ("dls_imperfect", lambda: dls(Dt=5.0, Dn=50.0, mpm_cell=0.4), {}),
+])
+def test_mpm_parallel_blocks_equal_serial(name, case, overrides):
+    c = case()
+    serial = _state(*_run(c, overrides, 120, blocks=1))
+    for blocks in (2, 3):
+        par = _state(*_run(c, overrides, 120, blocks=blocks))
+        for key in ("x", "v", "stress", "strain"):
+            assert _rel(serial[key], par[key]) < 1e-12, (name, blocks, key)
+        h0, h1 = serial["hist"], par["hist"]
+        for col in range(8):
+            scale = max(np.abs(h0[:, col]).max(), 1e-300)
+            assert np.abs(h0[:, col] - h1[:, col]).max() <= 1e-11 * scale, (name, blocks, col)
+
+
+_THREADS_SCRIPT = """
+import json, sys
+import numpy as np
+sys.path.insert(0, {root!r})
+import numba
+from cases.library import dls
+from mpm.options import merge
+from mpm.parallel import BlockBuffers
+from mpm.solver import Model, _Runner
+case = dls(Dt=5.0, Dn=50.0, mpm_cell=0.4)
+m = Model(case, merge(case, {{"progress": False}}))
+r = _Runner(m)
+r.block_buffers = BlockBuffers(2, m.grid.N, m.M, True)
+h = r._advance(60)
+print(json.dumps({{"threads": numba.get_num_threads(), "x": m.particles.x.tolist(),
+                   "hist": h.tolist()}}))
+"""
+
+
+def test_mpm_parallel_blocks_independent_of_thread_count():
+    """Same blocks on 1 and 2 threads: bit-identical (the block sums are added in
+    block order, never in thread order)."""
+    out = []
+    for threads in (1, 2):
+        env = dict(os.environ, NUMBA_NUM_THREADS=str(threads))
+        res = subprocess.run([sys.executable, "-c", _THREADS_SCRIPT.format(root=str(ROOT))],
+                             env=env, capture_output=True, text=True, timeout=600)
+        assert res.returncode == 0, res.stderr[-2000:]
+        out.append(json.loads(res.stdout.strip().splitlines()[-1]))
+    assert [o["threads"] for o in out] == [1, 2]
+    assert out[0]["x"] == out[1]["x"]
+    assert out[0]["hist"] == out[1]["hist"]
+
+
+@settings(max_examples=300, deadline=None)
+@given(x=st.floats(min_value=-3.0, max_value=40.0, allow_nan=False),
+       h=st.sampled_from([0.1, 0.25, 1.0, 3.0]),
+       lp_ratio=st.sampled_from([0.1, 0.25, 0.5]))
+def test_mpm_axis_weights_tuple_matches_gimp_formula(x, h, lp_ratio):
+    o = -5.0
+    lp = lp_ratio * h
+    i0, n, *wd = axis_weights_tuple(x, o, h, lp, UGIMP)
+    w, dw = wd[:3], wd[3:]
+    assert n in (2, 3)
+    # round-off of the local coordinate (x - x_i) / h grows with |x - o| / h, and the
+    # uGIMP gradient divides it by l_p (fastmath may also reassociate the polynomial)
+    tol_w = 64.0 * np.finfo(float).eps * (abs(x - o) / h + 1.0)
+    tol_dw = tol_w / lp
+    listed = {}
+    for k in range(n):
+        ref_w, ref_dw = gimp_1d(x - (o + (i0 + k) * h), h, lp)
+        assert abs(w[k] - ref_w) < tol_w and abs(dw[k] - ref_dw) < tol_dw
+        listed[i0 + k] = w[k]
+    # every node with a nonzero weight or gradient is listed
+    for i in range(i0 - 2, i0 + 5):
+        if i not in listed:
+            w_i, dw_i = gimp_1d(x - (o + i * h), h, lp)
+            assert abs(w_i) < tol_w and abs(dw_i) < tol_dw   # zero up to round-off
+    assert abs(sum(w[:n]) - 1.0) < 1e-13          # partition of unity
+    assert abs(sum(dw[:n])) * h < 1e-12
+    i0, n, *wd = axis_weights_tuple(x, o, h, lp, LINEAR)
+    r = (x - o) / h - i0
+    assert n == 2 and 0.0 <= r < 1.0 and wd[0] == 1.0 - r and wd[1] == r
