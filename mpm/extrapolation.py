@@ -44,6 +44,37 @@ from .shape import SHAPE_CODES, shape_2d
 NODAL_DISPLACEMENT_CODES = {"average": 0, "linear": 1}
 
 
+@njit(cache=True, inline="always")
+def _solve_in_place(A, B, D) -> bool:
+    """Solve A X = B for the leading D x D block (D <= 3) by Gaussian elimination with
+    partial pivoting, X written into B (A is destroyed). No allocation: np.linalg.solve
+    per node and material was most of this kernel's time. False if A is singular."""
+    for c in range(D):
+        piv = c
+        for r in range(c + 1, D):
+            if abs(A[r, c]) > abs(A[piv, c]):
+                piv = r
+        if A[piv, c] == 0.0:
+            return False
+        if piv != c:
+            for e in range(D):
+                A[c, e], A[piv, e] = A[piv, e], A[c, e]
+                B[c, e], B[piv, e] = B[piv, e], B[c, e]
+        for r in range(c + 1, D):
+            fac = A[r, c] / A[c, c]
+            for e in range(c, D):
+                A[r, e] -= fac * A[c, e]
+            for e in range(D):
+                B[r, e] -= fac * B[c, e]
+    for c in range(D - 1, -1, -1):
+        for e in range(D):
+            acc = B[c, e]
+            for r in range(c + 1, D):
+                acc -= A[c, r] * B[r, e]
+            B[c, e] = acc / A[c, c]
+    return True
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def displacement_to_nodes(mass, displacement, position, nodes, origin, cell, nn, law_kind,
                           law_params, node_zone, zone_pairs, zone_kind, zone_params, work):
@@ -125,14 +156,15 @@ def displacement_to_nodes(mass, displacement, position, nodes, origin, cell, nn,
                     break
                 stride *= nn[d]
             if rows == D:
-                # full gradient: A G^T = B, exact for a linear field
-                Gt = np.linalg.solve(A, B)
-                for c in range(D):
-                    s = 0.0
-                    for e in range(D):
-                        s += off[e] * Gt[e, c]
-                    work[a, f, c] = -s
-                count += 1
+                # full gradient: A G^T = B (B then holds G^T), exact for a linear field;
+                # A cannot be singular (each row is dominated by its own axis, above)
+                if _solve_in_place(A, B, D):
+                    for c in range(D):
+                        s = 0.0
+                        for e in range(D):
+                            s += off[e] * B[e, c]
+                        work[a, f, c] = -s
+                    count += 1
             elif rows > 0:
                 # slopes along the available axes only
                 for r in range(rows):

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .shape import axis_weights, axis_weights_tuple, shape_2d_work
+from .shape import axis_weights, axis_weights3, axis_weights_tuple, shape_2d_work
 
 #: stress-update schemes: update stress last (grid velocities after the momentum
 #: update), first (initial extrapolation), modified USL (re-extrapolated particle momenta)
@@ -138,26 +138,44 @@ def zero_nodal(multi, mass, mom, force, volume, volgrad, disp, pos):
         pos[:] = 0.0
 
 
+@njit(cache=True, inline="always")
+def _pick(k, a0, a1, a2):
+    """a_k of three scalars (k < 3): a select, so the weights stay in registers."""
+    return a0 if k == 0 else (a1 if k == 1 else a2)
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def p2g_range_2d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, kind,
                  multi, internal, mass, mom, force, volume, volgrad, disp, pos):
     """Scatter of particles lo..hi-1 (mass, momentum, internal force and, with
     ``multi``, the unnormalised multimaterial sums) into the given nodal arrays,
     added to what they hold. Returns the first particle whose support leaves the grid
-    (the scatter stops there) or -1."""
-    wx = np.empty(3)
-    dwx = np.empty(3)
-    wy = np.empty(3)
-    dwy = np.empty(3)
+    (the scatter stops there) or -1.
+
+    Written for speed (the scatter and the gather of G2P are most of a step): 1D weights
+    as scalars, flat views of the nodal arrays, trimmed 2-or-3 node loops (fewer
+    read-modify-writes than a fixed 3 x 3 stencil)."""
+    M = mass.shape[1]
+    mf = mass.reshape(-1)
+    pf = mom.reshape(-1)
+    ff = force.reshape(-1)
+    if multi:
+        vf = volume.reshape(-1)
+        gf = volgrad.reshape(-1)
+        df = disp.reshape(-1)
+        qf = pos.reshape(-1)
+    else:
+        vf = mf
+        gf = pf
+        df = pf
+        qf = pf
     nx = nn[0]
     for p in range(lo, hi):
-        i0, nax, wx[0], wx[1], wx[2], dwx[0], dwx[1], dwx[2] = axis_weights_tuple(
-            x[p, 0], origin[0], cell[0], lp[0], kind)
-        j0, nay, wy[0], wy[1], wy[2], dwy[0], dwy[1], dwy[2] = axis_weights_tuple(
-            x[p, 1], origin[1], cell[1], lp[1], kind)
+        i0, nax, w0, w1, w2, d0, d1, d2 = axis_weights_tuple(x[p, 0], origin[0], cell[0], lp[0],
+                                                             kind)
+        j0, nay, q0, q1, q2, e0, e1, e2 = axis_weights_tuple(x[p, 1], origin[1], cell[1], lp[1],
+                                                             kind)
         if not _inside(i0, j0, nax, nay, nn):
-            nax = -1
-        if nax < 0:
             return p
         f = field[p]
         m = pmass[p]
@@ -165,33 +183,45 @@ def p2g_range_2d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn,
         mvx = m * v[p, 0]
         mvy = m * v[p, 1]
         if internal:
-            sxx = stress[p, 0]
-            syy = stress[p, 1]
-            sxy = stress[p, 2]
+            sxx = V * stress[p, 0]
+            syy = V * stress[p, 1]
+            sxy = V * stress[p, 2]
         else:
             sxx = 0.0
             syy = 0.0
             sxy = 0.0
+        mux = 0.0
+        muy = 0.0
+        mxx = 0.0
+        mxy = 0.0
+        if multi:
+            mux = m * (x[p, 0] - x0[p, 0])
+            muy = m * (x[p, 1] - x0[p, 1])
+            mxx = m * x[p, 0]
+            mxy = m * x[p, 1]
         for b in range(nay):
             row = (j0 + b) * nx + i0
+            wy = _pick(b, q0, q1, q2)
+            dwy = _pick(b, e0, e1, e2)
             for a in range(nax):
-                s = wx[a] * wy[b]
-                gx = dwx[a] * wy[b]
-                gy = wx[a] * dwy[b]
-                n = row + a
-                mass[n, f] += s * m
-                mom[n, f, 0] += s * mvx
-                mom[n, f, 1] += s * mvy
-                force[n, f, 0] -= V * (sxx * gx + sxy * gy)
-                force[n, f, 1] -= V * (sxy * gx + syy * gy)
+                wx = _pick(a, w0, w1, w2)
+                s = wx * wy
+                gx = _pick(a, d0, d1, d2) * wy
+                gy = wx * dwy
+                k = (row + a) * M + f
+                mf[k] += s * m
+                pf[2 * k] += s * mvx
+                pf[2 * k + 1] += s * mvy
+                ff[2 * k] -= sxx * gx + sxy * gy
+                ff[2 * k + 1] -= sxy * gx + syy * gy
                 if multi:
-                    volume[n, f] += s * V
-                    volgrad[n, f, 0] += gx * V
-                    volgrad[n, f, 1] += gy * V
-                    disp[n, f, 0] += s * m * (x[p, 0] - x0[p, 0])
-                    disp[n, f, 1] += s * m * (x[p, 1] - x0[p, 1])
-                    pos[n, f, 0] += s * m * x[p, 0]
-                    pos[n, f, 1] += s * m * x[p, 1]
+                    vf[k] += s * V
+                    gf[2 * k] += gx * V
+                    gf[2 * k + 1] += gy * V
+                    df[2 * k] += s * mux
+                    df[2 * k + 1] += s * muy
+                    qf[2 * k] += s * mxx
+                    qf[2 * k + 1] += s * mxy
     return -1
 
 
@@ -369,83 +399,127 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
                         update_stress, nvel, nacc)
 
 
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def _gather_row3(k, st, wy, dwy, w0, w1, w2, d0, d1, d2, vf, af):
+    """Sums over the 3 nodes k, k + st, k + 2 st of one stencil row (flat index k of the
+    x component, st the flat stride between x-neighbours): (S a_x, S a_y, S v_x, S v_y,
+    v_x G_x, v_x G_y, v_y G_x, v_y G_y)."""
+    s0 = w0 * wy
+    s1 = w1 * wy
+    s2 = w2 * wy
+    gx0 = d0 * wy
+    gx1 = d1 * wy
+    gx2 = d2 * wy
+    gy0 = w0 * dwy
+    gy1 = w1 * dwy
+    gy2 = w2 * dwy
+    u0 = vf[k]
+    u1 = vf[k + st]
+    u2 = vf[k + 2 * st]
+    v0 = vf[k + 1]
+    v1 = vf[k + st + 1]
+    v2 = vf[k + 2 * st + 1]
+    return (s0 * af[k] + s1 * af[k + st] + s2 * af[k + 2 * st],
+            s0 * af[k + 1] + s1 * af[k + st + 1] + s2 * af[k + 2 * st + 1],
+            s0 * u0 + s1 * u1 + s2 * u2,
+            s0 * v0 + s1 * v1 + s2 * v2,
+            gx0 * u0 + gx1 * u1 + gx2 * u2,
+            gy0 * u0 + gy1 * u1 + gy2 * u2,
+            gx0 * v0 + gx1 * v1 + gx2 * v2,
+            gy0 * v0 + gy1 * v1 + gy2 * v2)
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
                  load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc):
-    """:func:`g2p_2d` for particles lo..hi-1 (each particle only touches its own data)."""
-    wx = np.empty(3)
-    dwx = np.empty(3)
-    wy = np.empty(3)
-    dwy = np.empty(3)
+    """:func:`g2p_2d` for particles lo..hi-1 (each particle only touches its own data).
+
+    The gather runs over the fixed 3 x 3 stencil of :func:`mpm.shape.axis_weights3`
+    (unrolled; zero weights outside the support), so a particle is lost when that
+    stencil leaves the grid (the grid keeps >= 2 empty cells of padding)."""
     ke = 0.0
     U = 0.0
     work = 0.0
     lost = -1
+    wx = np.empty(3)
+    dwx = np.empty(3)
+    wy = np.empty(3)
+    dwy = np.empty(3)
     qx = np.empty(3)
     dqx = np.empty(3)
     qy = np.empty(3)
     dqy = np.empty(3)
-    ex_ = np.empty(3)
-    dex = np.empty(3)
-    ey_ = np.empty(3)
-    dey = np.empty(3)
     tidx = np.empty(9, np.int64)
     tw = np.empty(9)
     nx = nn[0]
+    M = nvel.shape[1]
+    vf = nvel.reshape(-1)
+    af = nacc.reshape(-1)
+    st = 2 * M              # flat stride between x-neighbours
+    srow = 2 * M * nx       # ... and between y-neighbours
     for p in range(lo, hi):
-        i0, nax, wx[0], wx[1], wx[2], dwx[0], dwx[1], dwx[2] = axis_weights_tuple(
-            x[p, 0], origin[0], cell[0], lp[0], kind)
-        j0, nay, wy[0], wy[1], wy[2], dwy[0], dwy[1], dwy[2] = axis_weights_tuple(
-            x[p, 1], origin[1], cell[1], lp[1], kind)
-        if not _inside(i0, j0, nax, nay, nn):
-            nax = -1
-        if nax < 0:
+        i0, w0, w1, w2, d0, d1, d2 = axis_weights3(x[p, 0], origin[0], cell[0], lp[0], kind)
+        j0, q0, q1, q2, e0, e1, e2 = axis_weights3(x[p, 1], origin[1], cell[1], lp[1], kind)
+        if not _inside(i0, j0, 3, 3, nn):
             lost = p
             continue
         f = field[p]
-        ax = 0.0
-        ay = 0.0
-        vx = 0.0
-        vy = 0.0
-        L00 = 0.0
-        L01 = 0.0
-        L10 = 0.0
-        L11 = 0.0
-        for b in range(nay):
-            row = (j0 + b) * nx + i0
-            for a in range(nax):
-                n = row + a
-                s = wx[a] * wy[b]
-                gx = dwx[a] * wy[b]
-                gy = wx[a] * dwy[b]
-                ax += s * nacc[n, f, 0]
-                ay += s * nacc[n, f, 1]
-                vnx = nvel[n, f, 0]
-                vny = nvel[n, f, 1]
-                vx += s * vnx
-                vy += s * vny
-                L00 += vnx * gx
-                L01 += vnx * gy
-                L10 += vny * gx
-                L11 += vny * gy
+        k = 2 * ((j0 * nx + i0) * M + f)
+        a0, b0, c0, g0, l0, m0, n0, o0 = _gather_row3(k, st, q0, e0, w0, w1, w2, d0, d1, d2,
+                                                      vf, af)
+        a1, b1, c1, g1, l1, m1, n1, o1 = _gather_row3(k + srow, st, q1, e1, w0, w1, w2, d0, d1,
+                                                      d2, vf, af)
+        a2, b2, c2, g2, l2, m2, n2, o2 = _gather_row3(k + 2 * srow, st, q2, e2, w0, w1, w2, d0,
+                                                      d1, d2, vf, af)
+        ax = a0 + a1 + a2
+        ay = b0 + b1 + b2
+        vx = c0 + c1 + c2
+        vy = g0 + g1 + g2
+        L00 = l0 + l1 + l2
+        L01 = m0 + m1 + m2
+        L10 = n0 + n1 + n2
+        L11 = o0 + o1 + o2
         if fext[p, 0] != 0.0 or fext[p, 1] != 0.0:
             # work of the traction: force x velocity of the nodes that carried it
             # (weights at the start-of-step position, as in P2G)
             c = _traction_weights(x[p, 0], x[p, 1], x[p, 0] + foff[p, 0],
                                   x[p, 1] + foff[p, 1], origin, cell, nn, lp, kind, tidx, tw,
-                                  qx, dqx, qy, dqy, ex_, dex, ey_, dey)
-            for k in range(c):
-                work += load_scale * dt * (fext[p, 0] * nvel[tidx[k], f, 0]
-                                           + fext[p, 1] * nvel[tidx[k], f, 1]) * tw[k]
+                                  wx, dwx, wy, dwy, qx, dqx, qy, dqy)
+            for kk in range(c):
+                work += load_scale * dt * (fext[p, 0] * nvel[tidx[kk], f, 0]
+                                           + fext[p, 1] * nvel[tidx[kk], f, 1]) * tw[kk]
         x[p, 0] += dt * vx
         x[p, 1] += dt * vy
         v[p, 0] = (1.0 - pic) * (v[p, 0] + dt * ax) + pic * vx
         v[p, 1] = (1.0 - pic) * (v[p, 1] + dt * ay) + pic * vy
         ke += 0.5 * pmass[p] * (v[p, 0] * v[p, 0] + v[p, 1] * v[p, 1])
+        s0 = stress[p, 0]
+        s1 = stress[p, 1]
+        s2 = stress[p, 2]
+        t0 = strain[p, 0]
+        t1 = strain[p, 1]
+        t2 = strain[p, 2]
         if update_stress:
-            _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol)
-        U += 0.5 * pvol0[p] * (stress[p, 0] * strain[p, 0] + stress[p, 1] * strain[p, 1]
-                               + stress[p, 2] * strain[p, 2])
+            # small-strain increment sym(L) dt (engineering shear), sigma += C d_eps
+            # (:func:`_stress_increment`, written out: an array-argument helper per
+            # particle costs numba reference counting)
+            de0 = L00 * dt
+            de1 = L11 * dt
+            de2 = (L01 + L10) * dt
+            t0 += de0
+            t1 += de1
+            t2 += de2
+            s0 += C[f, 0, 0] * de0 + C[f, 0, 1] * de1 + C[f, 0, 2] * de2
+            s1 += C[f, 1, 0] * de0 + C[f, 1, 1] * de1 + C[f, 1, 2] * de2
+            s2 += C[f, 2, 0] * de0 + C[f, 2, 1] * de1 + C[f, 2, 2] * de2
+            strain[p, 0] = t0
+            strain[p, 1] = t1
+            strain[p, 2] = t2
+            stress[p, 0] = s0
+            stress[p, 1] = s1
+            stress[p, 2] = s2
+            pvol[p] *= 1.0 + de0 + de1
+        U += 0.5 * pvol0[p] * (s0 * t0 + s1 * t1 + s2 * t2)
     return ke, U, work, lost
 
 

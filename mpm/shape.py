@@ -71,6 +71,26 @@ def axis_weights_tuple(x: float, o: float, h: float, lp: float, kind: int):
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def axis_weights3(x: float, o: float, h: float, lp: float, kind: int):
+    """1D weights on a fixed 3-node stencil: (i0, w0, w1, w2, dw0, dw1, dw2) for the
+    nodes i0, i0 + 1, i0 + 2, untrimmed (a node outside the support has w = dw = 0;
+    linear: i0 = floor((x - o)/h) and the third node is 0). The gathers of G2P run
+    over this fixed 3 x 3 stencil: a loop of constant trip count that the compiler
+    unrolls is ~2x faster than the 2-or-3 node loop of :func:`axis_weights_tuple`,
+    even with the zero weights; scatters keep the trimmed count (fewer stores)."""
+    xi = (x - o) / h
+    if kind == LINEAR:
+        i0 = int(np.floor(xi))
+        r = xi - i0
+        return i0, 1.0 - r, r, 0.0, -1.0 / h, 1.0 / h, 0.0
+    i0 = int(np.floor(xi + 0.5)) - 1
+    w0, d0 = gimp_1d(x - (o + i0 * h), h, lp)
+    w1, d1 = gimp_1d(x - (o + (i0 + 1) * h), h, lp)
+    w2, d2 = gimp_1d(x - (o + (i0 + 2) * h), h, lp)
+    return i0, w0, w1, w2, d0, d1, d2
+
+
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def axis_weights(x: float, o: float, h: float, lp: float, kind: int,
                  w: np.ndarray, dw: np.ndarray):
     """:func:`axis_weights_tuple` written into w[k], dw[k]; returns (i0, count)."""
