@@ -41,7 +41,7 @@ def _rotate(points, angle_deg: float) -> np.ndarray:
 def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: float | None = None,
         l: float = 25.0, L: float = 5.0, W: float | None = None, load: float | None = None,
         Dn_compression: float | None = None, zone_y: float | None = None, zone_Dn: float | None = None,
-        angle: float = 0.0, shift_x: float = 0.0, shift_y: float = 0.0,
+        angle: float = 0.0, shift_x: float = 0.0, shift_y: float = 0.0, support: str | None = None,
         fem_h: float = 0.1, mpm_cell: float = 0.1, mpm_ppc: int = 2) -> Case:
     """Double lap shear specimen (002 Sec 3.1 Fig 4; 000 Fig 4B).
 
@@ -53,8 +53,14 @@ def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: flo
     Stiffness k = P / (<u_top> - <u_bottom>) (002 Eq 43), P = 2 load t W.
 
     variant ``"002"``: t = 0.6, W = 10 (002 Sec 3.1); ``"000"``: t = 1, W = 1, tops
-    loaded to 1 MPa (000 Sec 3; there the bottom was loaded to 2 MPa for balance, here
-    it is gripped so static methods have a support). ``Dn_compression`` makes the
+    loaded to 1 MPa (000 Sec 3). ``support``: ``"grip"`` (default for 002) fixes the
+    bottom of the central strip; ``"traction"`` (default for 000, as there) loads it
+    with the balancing traction 2 ``load`` instead, a free, self-equilibrated specimen
+    (FEM removes the rigid motions; the stiffness uses displacement differences). A
+    grip on a rotated specimen clamps the grid nodes beyond a side that cuts cells (a
+    staircase), which is softer than a straight grip in MPM: the traction support is
+    the one that makes a rotated specimen comparable with the unrotated one (000
+    Fig 9). ``Dn_compression`` makes the
     normal law bilinear (002 Fig 6 "inf/1": Dn in tension, Dn_compression in
     compression); ``zone_y``/``zone_Dn``: Dn = zone_Dn below y = zone_y (002 Fig 6).
     ``angle`` rotates the specimen about the origin (000 Fig 9), ``shift_x``/``shift_y``
@@ -72,6 +78,10 @@ def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: flo
     l = check_number("l", l, low=0, low_open=True)
     L = check_number("L", L, low=0, low_open=True)
     angle = check_number("angle", angle)
+    if support is None:
+        support = "grip" if variant == "002" else "traction"
+    if support not in ("grip", "traction"):
+        raise CaseError(f"support must be 'grip' or 'traction', got {support!r}")
     law = _interface_law(Dn, Dt, Dn_compression)
     zones = []
     if zone_y is not None:
@@ -91,7 +101,12 @@ def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: flo
     axis = _rotate([[0.0, 1.0]], angle)[0]
     traction = tuple(float(v) for v in load * axis)
     ramp = 0.5 * MS if variant == "002" else 0.04 * MS
-    bcs = [BoundaryCondition("fixed", "center", "ymin", ("x", "y"), (0.0, 0.0)),
+    if support == "grip":
+        bottom = BoundaryCondition("fixed", "center", "ymin", ("x", "y"), (0.0, 0.0))
+    else:
+        bottom = BoundaryCondition("traction", "center", "ymin", ("x", "y"),
+                                   tuple(-2.0 * v for v in traction), ramp_time=ramp)
+    bcs = [bottom,
            BoundaryCondition("traction", "outer_left", "ymax", ("x", "y"), traction, ramp_time=ramp),
            BoundaryCondition("traction", "outer_right", "ymax", ("x", "y"), traction, ramp_time=ramp)]
     P = 2 * load * t * W

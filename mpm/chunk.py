@@ -69,10 +69,10 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, mode,
             p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force)
         step_velocities(t, dt, bc_vel, bc_tend, vel)
         diss, wbc = grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, vel)
-        ke_grid = nodal_kinematics(mass, mom, force, nvel, nacc)
-        ke, U, work, lost = g2p_blocks_2d(nb, x, v, pmass, pvol, pvol0, stress, strain, field,
-                                          fext, foff, scale, C, origin, cell, nn, lp, kind, dt,
-                                          pic, mode == USL, nvel, nacc)
+        nodal_kinematics(mass, mom, force, nvel, nacc)
+        ke, U, work, lost, ke_grid = g2p_blocks_2d(
+            nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, scale, C, origin,
+            cell, nn, lp, kind, dt, pic, mode == USL, nvel, nacc)
         if lost >= 0:
             return s, lost
         if mode == MUSL:

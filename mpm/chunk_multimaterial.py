@@ -121,10 +121,10 @@ def run_chunk_multimaterial_2d(
                 wbc += bonded_velocity_bc_kernel(mass, mom, force, bc_node, bc_field, bc_comp,
                                                  vel, law_kind, law_params, settings, node_zone,
                                                  zone_pairs, zone_kind, zone_params, dt, True)
-        ke_grid = nodal_kinematics(mass, mom, force, nvel, nacc)
-        ke, U, work, lost = g2p_blocks_2d(nb, x, v, pmass, pvol, pvol0, stress, strain, field,
-                                          fext, foff, scale, C, origin, cell, nn, lp, kind, dt,
-                                          pic, mode == USL, nvel, nacc)
+        nodal_kinematics(mass, mom, force, nvel, nacc)
+        ke, U, work, lost, ke_grid = g2p_blocks_2d(
+            nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, scale, C, origin,
+            cell, nn, lp, kind, dt, pic, mode == USL, nvel, nacc)
         if lost >= 0:
             return s, lost
         if mode == MUSL:

@@ -350,9 +350,8 @@ def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel)
 def nodal_kinematics(mass, mom, force, nvel, nacc):
     """Nodal velocity v = p/m and acceleration a = f/m per field (0 where m = 0).
 
-    Returns the grid kinetic energy sum |p|^2 / (2 m): unlike the particle kinetic
-    energy it does not see FLIP null-space particle velocities (004 Sec 3.3), so the
-    stopping criterion uses it.
+    Returns the nodal kinetic energy sum |p|^2 / (2 m) (the stopping criterion uses the
+    particle-interpolated grid kinetic energy of :func:`g2p_2d` instead).
     """
     N, M, D = mom.shape
     ke = 0.0
@@ -391,7 +390,12 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
     field, from :func:`nodal_kinematics`;
     V <- (1 - pic)(V + dt S a) + pic S v+; x <- x + dt S v+; L = sum v+ (x) grad S.
     Returns (kinetic energy, strain energy, work of the external forces this step,
-    index of a particle that left the grid or -1). Serial;
+    index of a particle that left the grid or -1, kinetic energy of the grid motion seen
+    by the particles sum m_p |S v+|^2 / 2). The last one is the stopping measure: the
+    particle kinetic energy carries FLIP null-space velocities (004 Sec 3.3), and the
+    nodal sum |p+|^2 / 2m has a floor from nodes holding only particle tails (bodies whose
+    edges cut cells), where the unbalanced force of a tiny mass gives a large velocity
+    that no particle follows (S_ip v_i -> 0). Serial;
     :func:`mpm.parallel.g2p_blocks_2d` runs :func:`g2p_range_2d` over particle blocks.
     """
     return g2p_range_2d(0, x.shape[0], x, v, pmass, pvol, pvol0, stress, strain, field, fext,
@@ -438,6 +442,7 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
     (unrolled; zero weights outside the support), so a particle is lost when that
     stencil leaves the grid (the grid keeps >= 2 empty cells of padding)."""
     ke = 0.0
+    ke_grid = 0.0
     U = 0.0
     work = 0.0
     lost = -1
@@ -493,6 +498,7 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
         v[p, 0] = (1.0 - pic) * (v[p, 0] + dt * ax) + pic * vx
         v[p, 1] = (1.0 - pic) * (v[p, 1] + dt * ay) + pic * vy
         ke += 0.5 * pmass[p] * (v[p, 0] * v[p, 0] + v[p, 1] * v[p, 1])
+        ke_grid += 0.5 * pmass[p] * (vx * vx + vy * vy)
         s0 = stress[p, 0]
         s1 = stress[p, 1]
         s2 = stress[p, 2]
@@ -520,7 +526,7 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
             stress[p, 2] = s2
             pvol[p] *= 1.0 + de0 + de1
         U += 0.5 * pvol0[p] * (s0 * t0 + s1 * t1 + s2 * t2)
-    return ke, U, work, lost
+    return ke, U, work, lost, ke_grid
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")

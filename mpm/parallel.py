@@ -167,13 +167,14 @@ def _g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
     for ib in prange(nb):
         lo = ib * P // nb
         hi = (ib + 1) * P // nb
-        ke, U, work, lost = g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain,
+        ke, U, work, lost, keg = g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain,
                                          field, fext, foff, load_scale, C, origin, cell, nn,
                                          lp, kind, dt, pic, update_stress, nvel, nacc)
         out[ib, 0] = ke
         out[ib, 1] = U
         out[ib, 2] = work
         out[ib, 3] = lost
+        out[ib, 4] = keg
 
 
 @njit(cache=True)
@@ -185,17 +186,19 @@ def g2p_blocks_2d(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, fof
         return g2p_range_2d(0, x.shape[0], x, v, pmass, pvol, pvol0, stress, strain, field,
                             fext, foff, load_scale, C, origin, cell, nn, lp, kind, dt, pic,
                             update_stress, nvel, nacc)
-    out = np.empty((nb, 4))
+    out = np.empty((nb, 5))
     _g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
                 origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, out)
     ke = 0.0
     U = 0.0
     work = 0.0
+    ke_grid = 0.0
     lost = -1
     for ib in range(nb):
         ke += out[ib, 0]
         U += out[ib, 1]
         work += out[ib, 2]
+        ke_grid += out[ib, 4]
         if out[ib, 3] >= 0.0:
             lost = int(out[ib, 3])
-    return ke, U, work, lost
+    return ke, U, work, lost, ke_grid

@@ -125,14 +125,56 @@ def side_particles(case, particles: Particles, body_name: str, side: str) -> tup
     return idx, float(shape.edge_length(side))
 
 
+def _equivalent_shares(shape, side: str, points: np.ndarray, traction: np.ndarray,
+                       length: float) -> np.ndarray:
+    """Side lengths carried by the loaded particles of a 2D side that cuts the particle
+    lattice (rotated body), statically equivalent to the uniform traction: the shares
+    sum to the side length (resultant) and give its moment about the side's start.
+
+    The particles of the first row along a rotated side sit irregularly along it (the
+    lattice is the grid's): equal shares put a net moment on the side, which a free
+    specimen loaded at both ends (000 Fig 9) cannot balance, so it turns steadily and a
+    damped run never settles. Each particle first takes the part of the side nearest to
+    it (1D Voronoi cells along the side), then a linear correction in the moment arm
+    makes the moment exact; the arm counts the particle's depth inside the side for
+    the tangential part of the traction."""
+    axis, is_max = shape._side(side)
+    q = shape.to_local(points)
+    along = 1 - axis
+    s = np.clip(q[:, along], 0.0, length)
+    depth = (shape.size[axis] - q[:, axis]) if is_max else q[:, axis]   # >= 0 inside
+    order = np.argsort(s, kind="stable")
+    ss = s[order]
+    edges = np.concatenate([[0.0], 0.5 * (ss[1:] + ss[:-1]), [length]])
+    share = np.empty(s.size)
+    share[order] = np.diff(edges)
+    # moment of the forces share_p t about the side's start, per unit traction: in the
+    # side frame (tangent tau, inward normal -n) a point (s, depth) has arm s tau - depth n
+    R = shape._rotation()
+    tau = R[:, along]
+    n = np.asarray(shape.edge_normal(side), float)
+    cross = lambda a, b: a[0] * b[1] - a[1] * b[0]  # noqa: E731
+    arm = s * cross(tau, traction) - depth * cross(n, traction)
+    target = 0.5 * length * length * cross(tau, traction)
+    dev = arm - arm.mean()
+    denom = float(dev @ arm)
+    if s.size > 1 and abs(denom) > 1e-12 * max(float(arm @ arm), 1e-300):
+        corrected = share + (target - float(share @ arm)) / denom * dev
+        if np.all(corrected > 0.0):
+            share = corrected
+    return share
+
+
 def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
     """Set ``particles.fext`` from the case's traction boundary conditions.
 
     A loaded particle gets traction x its edge length (spacing along the side) x
     thickness (2D) or x its face area (3D), acting at the particle's edge on that side
     (``foff``: half a particle spacing along the outward normal); the shares are normalised so
-    that the total force is exactly traction x side length x thickness (rotated sides
-    do not align with the particle lattice). Returns one record per traction
+    that the total force is exactly traction x side length x thickness. On 2D sides that
+    cut the particle lattice (rotated bodies) the shares are the side lengths nearest to
+    each particle, corrected so that the resultant and the moment equal those of the
+    uniform traction (:func:`_equivalent_shares`), and the force acts at the particle. Returns one record per traction
     condition: particle indices, total force vector and ramp time.
     """
     thickness = case.thickness if D == 2 else 1.0
@@ -147,13 +189,17 @@ def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
         # particle extent along the side: the spacing in the tangential directions
         extent = np.prod(np.where(np.abs(normal) > 0.5, 1.0, particles.spacing)) if D == 3 else \
             abs(normal[1]) * particles.spacing[0] + abs(normal[0]) * particles.spacing[1]
-        share = np.full(idx.size, extent)
-        share *= length / share.sum()
+        aligned = np.count_nonzero(np.abs(normal) > 1e-12) == 1
+        if aligned or D != 2:
+            share = np.full(idx.size, extent)
+            share *= length / share.sum()
+        else:
+            share = _equivalent_shares(shape, bc.side, particles.x0[idx], traction, length)
         total = traction * length * thickness
         particles.fext[idx] += np.outer(share * thickness, traction)
         # the force acts on the particle's edge on that side (half a spacing outward) when
         # the side is aligned with the grid axes; otherwise at the particle (S_ip weights)
-        if np.count_nonzero(np.abs(normal) > 1e-12) == 1:
+        if aligned:
             particles.foff[idx] = normal * (0.5 * float(np.abs(normal) @ particles.spacing))
         loads.append({"particles": idx, "force": total, "ramp_time": bc.ramp_time,
                       "body": bc.body, "side": bc.side})

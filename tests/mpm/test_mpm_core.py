@@ -213,3 +213,36 @@ def test_unstable_time_step_raises_solver_error_with_advice():
     c = case.materials["m"].wave_speed("plane_stress")
     with pytest.raises(SolverError, match="time step"):
         mpm.solve(case, cell=0.5, dt=3.0 * 0.5 / c, damping="none", progress=False)
+
+
+@pytest.mark.parametrize("angle", [17.0, 30.0, 45.0])
+@pytest.mark.parametrize("traction", [(0.0, 1.0), (0.6, -0.8)])
+def test_rotated_side_load_is_statically_equivalent_to_the_traction(angle, traction):
+    """Loaded particles of a side that cuts the particle lattice: their forces have the
+    resultant and the moment (about any point) of the uniform traction on the side."""
+    from mpm.options import merge
+    from mpm.solver import Model
+    import math as _m
+    c, s = _m.cos(_m.radians(angle)), _m.sin(_m.radians(angle))
+    t_local = np.array(traction)
+    t = np.array([c * t_local[0] - s * t_local[1], s * t_local[0] + c * t_local[1]])
+    shape = Rectangle(0.3, 0.2, 3.0, 6.0, angle=angle)
+    case = Case(name="rot", analysis="plane_stress", thickness=2.0,
+                materials={"m": IsotropicElastic(E=1000.0, nu=0.3, rho=1e-9)},
+                bodies=[Body("b", shape, "m")],
+                boundary_conditions=[BoundaryCondition("traction", "b", "ymax", ("x", "y"),
+                                                       tuple(t))])
+    m = Model(case, merge(case, {"cell": 0.25, "progress": False}))
+    pt = m.particles
+    loaded = np.flatnonzero(np.any(pt.fext != 0.0, axis=1))
+    F = pt.fext[loaded]
+    L, T = 3.0, 2.0
+    np.testing.assert_allclose(F.sum(axis=0), t * L * T, rtol=1e-12)
+    # moment about the side's start corner: uniform traction -> resultant at mid-side
+    start = shape.to_global(np.array([[0.0, 6.0]]))[0]
+    mid = shape.to_global(np.array([[1.5, 6.0]]))[0]
+    arm = pt.x0[loaded] - start
+    moment = np.sum(arm[:, 0] * F[:, 1] - arm[:, 1] * F[:, 0])
+    ref = (mid - start)[0] * (t * L * T)[1] - (mid - start)[1] * (t * L * T)[0]
+    assert moment == pytest.approx(ref, rel=1e-10, abs=1e-12 * L * L * T)
+    assert np.all(np.linalg.norm(F, axis=1) > 0.0)

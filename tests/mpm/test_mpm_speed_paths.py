@@ -2,7 +2,7 @@
 
 * the compiled multimaterial chunk (mpm/chunk_multimaterial.py) against the
   Python-driven step loop it replaces (``_Runner._advance_multimaterial`` with
-  ``chunk_multimaterial.COMPILED = False``): bit-identical, same node kernels;
+  ``chunk_multimaterial.COMPILED = False``): equal to round-off, same node kernels;
 * the block-parallel P2G/G2P (mpm/parallel.py) against one serial block: equal to
   round-off (only the order of the nodal sums changes), and bit-identical whatever the
   number of threads executing the blocks;
@@ -77,7 +77,11 @@ def test_mpm_compiled_multimaterial_chunk_equals_python_loop(name):
     moved = np.abs(sa["x"] - a[0].particles.x0).max()
     assert moved > 0.0 and np.abs(sa["hist"][:, 2]).max() > 0.0  # the run did something
     for key in sa:
-        assert np.array_equal(sa[key], sb[key]), f"{name}: {key} differs"
+        # the same kernels in both paths; fastmath lets the compiler contract and
+        # reorder sums differently when a kernel is inlined into the chunk, so the paths
+        # agree to round-off (bit for bit in a fresh process, not after other tests
+        # compiled the kernels in another order); any difference in logic is O(1)
+        assert _rel(sa[key], sb[key]) < 1e-9, f"{name}: {key} differs"
     assert a[1].over_limit == b[1].over_limit
     if name == "two_layer_unlimited":
         assert b[1].over_limit[0] > 0  # the counter was exercised

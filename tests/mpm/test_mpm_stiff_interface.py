@@ -70,3 +70,12 @@ def test_interface_above_the_eq26_bound_without_limiting_is_flagged():
                for w in off.diagnostics["warnings"])
     assert not on.diagnostics["warnings"]
     assert off.quantities["stiffness"] == pytest.approx(on.quantities["stiffness"], rel=1e-6)
+
+
+def test_perfect_normal_direction_held_by_limiting_is_not_reported():
+    """Dn = inf with a soft Dt (the DLS of 002): force limiting keeps the normal
+    direction perfect on the interface nodes, which is the law itself; only a limited
+    direction with a finite, non-negligible spring is worth a warning."""
+    r = mpm.solve(cases.build("dls", Dt=5.0, l=5.0, L=2.0, mpm_cell=0.2), ramp_time=5e-5,
+                  progress=False)
+    assert not any("force limiting" in w for w in r.diagnostics["warnings"])

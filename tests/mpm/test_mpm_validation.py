@@ -209,11 +209,13 @@ def test_unequal_cell_sizes_give_the_same_static_answer():
 
 def test_rotated_bar_cutting_cells_stays_stable_and_near_uniaxial():
     """A bar rotated by 30 deg cuts grid cells; its boundary nodes hold only particle
-    tails. ``update='auto'`` picks MUSL there (USL diverges on such nodes) and the
-    tractions act through the particles' own weights. Free-floating bar pulled at both
-    ends: the stress in the bar frame is uniaxial sigma, the strain energy sigma^2/(2E) V.
-    Observed at 0.5 mm cells: stress median within 0.5 %, energy +0.6 %.
-    """
+    tails. ``update='auto'`` picks MUSL there (USL diverges on such nodes, or settles
+    16 % off in energy) and the tractions act through the particles' own weights, with
+    shares that make the resultant and the moment of each end load exact. Free-floating
+    bar pulled at both ends: the stress in the bar frame is uniaxial sigma, the strain
+    energy sigma^2/(2E) V. Observed at 0.5 mm cells: settles in 858 steps, energy
+    -0.6 %. With equal shares the ends carried a net moment, the free bar kept turning
+    and the run never settled (the old test stopped it at max_time)."""
     ang = math.radians(30.0)
     t = (SIGMA * math.cos(ang), SIGMA * math.sin(ang))
     case = Case(name="rbar", analysis="plane_stress", thickness=T,
@@ -222,8 +224,9 @@ def test_rotated_bar_cutting_cells_stays_stable_and_near_uniaxial():
                 boundary_conditions=[
                     BoundaryCondition("traction", "a", "xmin", ("x", "y"), (-t[0], -t[1])),
                     BoundaryCondition("traction", "a", "xmax", ("x", "y"), t)])
-    r = _solve(case, max_time=1e-3)
+    r = _solve(case)
     assert r.diagnostics["update"] == "musl"
+    assert r.diagnostics["stopped_by"] == "kinetic_energy"
     s = r.fields["stress"]
     R = np.array([[math.cos(ang), -math.sin(ang)], [math.sin(ang), math.cos(ang)]])
     S = np.zeros((len(s), 2, 2))
@@ -232,4 +235,4 @@ def test_rotated_bar_cutting_cells_stays_stable_and_near_uniaxial():
     local = np.einsum("ji,pjk,kl->pil", R, S, R)
     assert np.median(local[:, 0, 0]) == pytest.approx(SIGMA, rel=1e-2)
     assert abs(np.median(local[:, 1, 1])) < 1e-2 * SIGMA
-    assert r.quantities["strain_energy"] == pytest.approx(0.5 * SIGMA ** 2 / E * L * H * T, rel=2e-2)
+    assert r.quantities["strain_energy"] == pytest.approx(0.5 * SIGMA ** 2 / E * L * H * T, rel=1e-2)
