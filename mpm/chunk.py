@@ -36,6 +36,19 @@ def kinetic_damping_step(kinetic_damping, ke, ke_prev, v):
     return ke, diss
 
 
+@njit(cache=True, inline="always")
+def record_step(hist, s, t, ke, U, work, diss, wbc, u_int, ke_grid):
+    """Row s of the history (columns of ``mpm.solver.HIST_COLUMNS``)."""
+    hist[s, 0] = t
+    hist[s, 1] = ke
+    hist[s, 2] = U
+    hist[s, 3] = work
+    hist[s, 4] = diss
+    hist[s, 5] = wbc
+    hist[s, 6] = u_int
+    hist[s, 7] = ke_grid
+
+
 @njit(cache=True)
 def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, mode,
                  x, v, pmass, pvol, pvol0, stress, strain, field, x0, fext, foff, C,
@@ -83,13 +96,7 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, mode,
         t += dt
         ke, dk = kinetic_damping_step(kinetic_damping, ke, ke_prev, v)
         diss += dk
-        hist[s, 0] = t
-        hist[s, 1] = ke
-        hist[s, 2] = U
-        hist[s, 3] = work
-        hist[s, 4] = diss
-        hist[s, 5] = wbc
-        hist[s, 7] = ke_grid
+        record_step(hist, s, t, ke, U, work, diss, wbc, 0.0, ke_grid)
         if not np.isfinite(ke):
             return s + 1, -1
     return nsteps, -1

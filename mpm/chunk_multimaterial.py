@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .chunk import kinetic_damping_step
+from .chunk import kinetic_damping_step, record_step
 from .extrapolation import displacement_to_nodes
 from .kernels import (MUSL, USF, USL, grid_update, multimaterial_nodes, nodal_kinematics,
                       p2g_internal_force_2d, p2g_momentum_2d, ramp, set_velocity_bc, step_velocities,
@@ -146,14 +146,7 @@ def run_chunk_multimaterial_2d(
         t += dt
         ke, dk = kinetic_damping_step(kinetic_damping, ke, ke_prev, v)
         diss += dk
-        hist[s, 0] = t
-        hist[s, 1] = ke
-        hist[s, 2] = U
-        hist[s, 3] = work
-        hist[s, 4] = diss
-        hist[s, 5] = wbc
-        hist[s, 6] = u_int
-        hist[s, 7] = ke_grid
+        record_step(hist, s, t, ke, U, work, diss, wbc, u_int, ke_grid)
         if not np.isfinite(ke):
             return s + 1, -1
     return nsteps, -1

@@ -52,6 +52,15 @@ def _inside(i0, j0, nax, nay, nn) -> bool:
     return i0 >= 0 and j0 >= 0 and i0 + nax <= nn[0] and j0 + nay <= nn[1]
 
 
+@njit(cache=True)
+def _traction_work():
+    """Work arrays of :func:`_traction_weights`: 1D weights and gradients of the edge
+    point (wx, dwx, wy, dwy) and of the particle (qx, dqx, qy, dqy), node indices and
+    weights (9 each)."""
+    return (np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3),
+            np.empty(3), np.empty(3), np.empty(9, np.int64), np.empty(9))
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _traction_weights(px, py, ex, ey, origin, cell, nn, lp, kind, tidx, tw,
                       wx, dwx, wy, dwy, qx, dqx, qy, dqy):
@@ -229,16 +238,7 @@ def p2g_range_2d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn,
 def p2g_tractions_2d(x, field, fext, foff, load_scale, origin, cell, nn, lp, kind, force):
     """Add the ramped particle traction forces ``load_scale * fext`` to ``force`` at the
     nodes of the loaded particle edges (:func:`_traction_weights`)."""
-    wx = np.empty(3)
-    dwx = np.empty(3)
-    wy = np.empty(3)
-    dwy = np.empty(3)
-    qx = np.empty(3)
-    dqx = np.empty(3)
-    qy = np.empty(3)
-    dqy = np.empty(3)
-    tidx = np.empty(9, np.int64)
-    tw = np.empty(9)
+    wx, dwx, wy, dwy, qx, dqx, qy, dqy, tidx, tw = _traction_work()
     for p in range(x.shape[0]):
         if fext[p, 0] != 0.0 or fext[p, 1] != 0.0:
             f = field[p]
@@ -446,16 +446,7 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
     U = 0.0
     work = 0.0
     lost = -1
-    wx = np.empty(3)
-    dwx = np.empty(3)
-    wy = np.empty(3)
-    dwy = np.empty(3)
-    qx = np.empty(3)
-    dqx = np.empty(3)
-    qy = np.empty(3)
-    dqy = np.empty(3)
-    tidx = np.empty(9, np.int64)
-    tw = np.empty(9)
+    wx, dwx, wy, dwy, qx, dqx, qy, dqy, tidx, tw = _traction_work()
     nx = nn[0]
     M = nvel.shape[1]
     vf = nvel.reshape(-1)
