@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import sys
 from pathlib import Path
 
@@ -22,7 +23,10 @@ from .sweep import sweep
 
 
 def parse_value(text: str):
-    """Parse a --set value: inf, numbers, true/false, comma lists, else the string."""
+    """Parse a --set value: inf, numbers, true/false, comma lists, else the string.
+
+    Digits with a leading zero (``variant=000``, ``002``) stay strings: they are names
+    (the papers' numbers), and Python's own integer syntax rejects them too."""
     t = text.strip()
     if "," in t:
         return [parse_value(x) for x in t.split(",")]
@@ -31,6 +35,8 @@ def parse_value(text: str):
         return math.inf
     if low in ("true", "false"):
         return low == "true"
+    if re.fullmatch(r"[+-]?0\d+", t):
+        return t
     for conv in (int, float):
         try:
             return conv(t)

@@ -24,6 +24,9 @@ def test_parse_value():
     assert parse_value("5") == 5 and isinstance(parse_value("5.0"), float)
     assert parse_value("1,2,inf") == [1, 2, math.inf]
     assert parse_value("vertical") == "vertical"
+    # the papers' names: --set variant=000 must not become the number 0
+    assert parse_value("000") == "000" and parse_value("002") == "002"
+    assert parse_value("0") == 0 and parse_value("0.25") == 0.25 and parse_value("-3") == -3
 
 
 def test_run_analytic_writes_results_csv_and_png(tmp_path, capsys):
