@@ -5,12 +5,12 @@ Validation) and writes, next to this script:
 
 * ``dls_01_normals.csv`` / ``.png``: 002 Sec 3.1 DLS at 0.1 mm cells, MPM stiffness
   relative to quadratic FEM and to shear lag (002 Eq 40-42) against 1/Dt, one curve per
-  normal method (SN, MVG, AVG; 000 Sec 2.5, Fig 7);
+  normal method (SN, MVG, AVG; 000 Sec 2.5, Fig 7) and AVG with edge screening;
 * ``dls_rotated.csv`` / ``.png``: the 000 DLS rotated against the grid (000 Fig 9),
   stiffness relative to the unrotated run, regular grid and dy = 2 dx with and without
   h-perp (000 Eq 22, method 1).
 
-Usage: python docs/mpm_validation/summarise.py SWEEP_ROOT  (directories dls_01_SN, ...,
+Usage: python docs/mpm_validation/summarise.py SWEEP_ROOT  (directories dls_01_SN, dls_01_MVG, dls_01_AVG, dls_01_AVG_screened,
 rot_regular, rot_dy2dx_ellipse_tangent, rot_dy2dx_none under SWEEP_ROOT)
 """
 from __future__ import annotations
@@ -28,7 +28,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 NORMAL_STYLE = {"SN": dict(marker="o", ms=8, ls="-"), "MVG": dict(marker="s", ms=5, ls="--"),
-                "AVG": dict(marker="^", ms=6, ls=":")}
+                "AVG": dict(marker="^", ms=6, ls=":"),
+                "AVG, edge cutoff 0.85": dict(marker="v", ms=6, ls="-.")}
+#: sweep directory suffix -> label (AVG screened: --option mpm.edge_cutoff=0.85, 000 Sec 3)
+NORMAL_RUNS = {"SN": "SN", "MVG": "MVG", "AVG": "AVG", "AVG_screened": "AVG, edge cutoff 0.85"}
 
 
 def _read(path: Path) -> dict:
@@ -44,8 +47,8 @@ def _read(path: Path) -> dict:
 
 def normals(root: Path) -> None:
     rows, curves = [], defaultdict(list)
-    for normal in ("SN", "MVG", "AVG"):
-        path = root / f"dls_01_{normal}" / "sweep.csv"
+    for run, normal in NORMAL_RUNS.items():
+        path = root / f"dls_01_{run}" / "sweep.csv"
         if not path.exists():
             continue
         d = _read(path)
