@@ -350,11 +350,10 @@ def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel)
 def nodal_kinematics(mass, mom, force, nvel, nacc):
     """Nodal velocity v = p/m and acceleration a = f/m per field (0 where m = 0).
 
-    Returns the nodal kinetic energy sum |p|^2 / (2 m) (the stopping criterion uses the
-    particle-interpolated grid kinetic energy of :func:`g2p_2d` instead).
+    (The stopping criterion uses the particle-interpolated grid kinetic energy of
+    :func:`g2p_2d`, not the nodal sum |p|^2 / 2m, so none is accumulated here.)
     """
     N, M, D = mom.shape
-    ke = 0.0
     for n in range(N):
         for f in range(M):
             m = mass[n, f]
@@ -362,8 +361,6 @@ def nodal_kinematics(mass, mom, force, nvel, nacc):
             for d in range(D):
                 nvel[n, f, d] = mom[n, f, d] * inv
                 nacc[n, f, d] = force[n, f, d] * inv
-                ke += 0.5 * mom[n, f, d] * mom[n, f, d] * inv
-    return ke
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")

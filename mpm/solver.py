@@ -535,22 +535,21 @@ class _Runner:
         area = m.node_out[:, OUT_AREA]
         E = max(float(np.max(np.diag(C)[:2])) for C in m.C)
         h = float(np.min(m.grid.cell))
+        active_area = float(area[active].sum())
+        laws = [law for pair in m.case.interfaces
+                for law in [pair.law] + [zone_law for _, zone_law in pair.zones]]
         worst = None
         for direction, flag in (("normal", STATUS_LIMITED_N), ("tangential", STATUS_LIMITED_T)):
             limited = active & ((status & int(flag)) != 0)
             # nodes holding only particle tails of one field have tiny reduced masses and
             # are limited at any stiffness, harmlessly: judge by the Eq 20 contact area
-            if area[limited].sum() < LIMITED_AREA_FRACTION * area[active].sum():
-                continue
+            share = float(area[limited].sum()) / active_area if active_area > 0.0 else 0.0
             # a limited direction whose springs are all perfect (D = inf) is exact
-            laws = [law for pair in m.case.interfaces
-                    for law in [pair.law] + [zone_law for _, zone_law in pair.zones]]
             stiff = [D for law in laws
                      for D in _law_stiffnesses(law, _DIRECTION_SPRINGS[direction])]
-            if not limited.any() or not stiff:
+            if not limited.any() or share < LIMITED_AREA_FRACTION or not stiff:
                 continue
             ratio = min(stiff) * h / E
-            share = float(area[limited].sum() / area[active].sum())
             if ratio < LIMITED_COMPLIANCE_RATIO and (worst is None or ratio < worst[2]):
                 worst = (direction, int(limited.sum()), ratio, share)
         if worst is None:
