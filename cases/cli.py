@@ -18,8 +18,10 @@ from interfaces import Case, CaseError, SolverError
 
 from . import registry
 from .compare import compare
+from .methods import supported_methods
+from .output import RUN_OUTPUTS, check_output_dir, staged_output
 from .plots import plot_comparison, plot_sweep
-from .sweep import sweep
+from .sweep import load_spec, sweep
 
 
 def parse_value(text: str):
@@ -80,7 +82,7 @@ def load_case(name: str, sets: dict) -> Case:
 def cmd_list(args) -> int:
     for n in registry.names():
         case = registry.build(n)
-        print(f"{n:<18} [{','.join(case.methods())}] {registry.summary(n)}")
+        print(f"{n:<18} [{','.join(supported_methods(case))}] {registry.summary(n)}")
     return 0
 
 
@@ -91,45 +93,86 @@ def cmd_show(args) -> int:
 
 
 def cmd_run(args) -> int:
+    out = check_output_dir(args.out, RUN_OUTPUTS)   # refuse an impossible --out before computing
     case = load_case(args.case, parse_assignments(args.set))
     comp = compare(case, args.methods, options=parse_options(args.option))
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "case.toml").write_text(case.to_toml())
-    payload = {"case": case.name, "reference": comp.reference,
-               "results": {m: r.to_dict(include_fields=False) for m, r in comp.results.items()},
-               "not_run": comp.failures}
-    (out / "results.json").write_text(json.dumps(payload, indent=1))
-    comp.to_csv(out / "comparison.csv")
-    for m, r in comp.results.items():
-        if "position" in r.fields and not args.no_vtk:
-            r.to_vtk(out / f"{case.name}_{m}.vtu")
-    png = plot_comparison(comp, out / f"{case.name}_comparison.png")
+    with staged_output(out) as stage:
+        (stage / "case.toml").write_text(case.to_toml())
+        payload = {"case": case.name, "reference": comp.reference,
+                   "results": {m: r.to_dict(include_fields=False) for m, r in comp.results.items()},
+                   "not_run": comp.failures}
+        (stage / "results.json").write_text(json.dumps(payload, indent=1))
+        comp.to_csv(stage / "comparison.csv")
+        for m, r in comp.results.items():
+            if "position" in r.fields and not args.no_vtk:
+                r.to_vtk(stage / f"{case.name}_{m}.vtu")
+        png = plot_comparison(comp, stage / f"{case.name}_comparison.png")
     print(comp.table())
-    print(f"\nwrote {out / 'results.json'}, {out / 'comparison.csv'}, {png}")
-    return 0 if comp.results else 1
+    print(f"\nwrote {out / 'results.json'}, {out / 'comparison.csv'}, {out / png.name}")
+    if comp.failures:
+        print(f"error: {len(comp.failures)} of {len(comp.failures) + len(comp.results)} requested methods "
+              f"did not run: {', '.join(comp.failures)} (reasons above)", file=sys.stderr)
+        return 3
+    return 0
 
 
 def cmd_sweep(args) -> int:
-    values = parse_value(args.values)
-    values = values if isinstance(values, list) else [values]
-    sw = sweep(args.case, args.param, values, methods=args.methods, fixed=parse_assignments(args.set),
-               options=parse_options(args.option), workers=args.workers, dask_address=args.dask)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    spec = _sweep_spec(args)
+    out = check_output_dir(args.resume or args.out)
+    sw = sweep(spec["case"], spec["param"], spec["values"], methods=spec["methods"], fixed=spec["fixed"],
+               options=spec["options"], workers=args.workers, dask_address=args.dask,
+               record_dir=out, resume=bool(args.resume), progress=True)
     sw.to_json(out / "sweep.json")
     sw.to_csv(out / "sweep.csv")
     wanted = [q.strip() for q in args.quantities.split(",")] if args.quantities else None
-    png = plot_sweep(sw, out / f"{args.case}_sweep_{args.param}.png", x_transform=args.x, quantities=wanted)
-    for q in sw.quantity_names():
-        print(f"{q}:")
-        print(f"  {args.param:>10} " + "".join(f"{m:>14}" for m in sw.methods))
-        for i, v in enumerate(sw.values):
-            print(f"  {v!s:>10} " + "".join(f"{sw.value(i, m, q):>14.5g}" for m in sw.methods))
+    png = plot_sweep(sw, out / f"{sw.case_name}_sweep_{sw.param}.png", x_transform=args.x, quantities=wanted)
+    print(sw.table(wanted or _shared_sweep_quantities(sw)))
     for e in sw.errors():
         print(f"error: {e}")
     print(f"\nwrote {out / 'sweep.json'}, {out / 'sweep.csv'}, {png}")
+    if sw.errors():
+        print(f"error: {len(sw.errors())} method runs of the sweep failed (listed above); the other "
+              "points are recorded", file=sys.stderr)
+        return 3
     return 0
+
+
+def _sweep_spec(args) -> dict:
+    """What to sweep: from the command line, or from the record being resumed (the
+    command line may repeat it; a difference is refused by the sweep)."""
+    if args.resume:
+        spec = load_spec(args.resume)
+        spec["values"] = [parse_value(str(v)) for v in spec["values"]]
+        spec["fixed"] = {k: parse_value(str(v)) if isinstance(v, str) else v for k, v in spec["fixed"].items()}
+        given = {"case": args.case, "param": args.param}
+        for k, v in given.items():
+            if v is not None and v != spec[k]:
+                raise CaseError(f"--resume {args.resume}: the recorded sweep has {k} {spec[k]!r}, not {v!r}")
+        if args.values is not None:
+            values = _values(args.values)
+            if values != spec["values"]:
+                raise CaseError(f"--resume {args.resume}: the recorded sweep has values {spec['values']}")
+        return spec
+    missing = [n for n, v in (("CASE", args.case), ("--param", args.param), ("--values", args.values)) if v is None]
+    if missing:
+        raise CaseError(f"sweep needs {', '.join(missing)} (or --resume DIR to continue a recorded sweep)")
+    return {"case": args.case, "param": args.param, "values": _values(args.values), "methods": args.methods,
+            "fixed": parse_assignments(args.set), "options": parse_options(args.option)}
+
+
+def _values(text: str) -> list:
+    values = parse_value(text)
+    return values if isinstance(values, list) else [values]
+
+
+def _shared_sweep_quantities(sw) -> list[str]:
+    """Quantities that at least two methods give (all of them for a single method)."""
+    if len(sw.methods) < 2:
+        return sw.quantity_names()
+    count = {q: sum(any(math.isfinite(sw.value(i, m, q)) for i in range(len(sw.values))) for m in sw.methods)
+             for q in sw.quantity_names()}
+    shared = [q for q, c in count.items() if c >= 2]
+    return shared or sw.quantity_names()
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -147,9 +190,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--out", default="out")
     r.add_argument("--no-vtk", action="store_true")
     w = sub.add_parser("sweep", help="run a case over parameter values, every method, in parallel")
-    w.add_argument("case")
-    w.add_argument("--param", required=True)
-    w.add_argument("--values", required=True, help="comma list, e.g. 1,2,5,inf")
+    w.add_argument("case", nargs="?", help="a case name (not needed with --resume)")
+    w.add_argument("--param")
+    w.add_argument("--values", help="comma list, e.g. 1,2,5,inf")
+    w.add_argument("--resume", metavar="DIR", help="continue the sweep recorded in DIR (runs only the missing points)")
     w.add_argument("--methods", default="all")
     w.add_argument("--set", action="append", metavar="KEY=VALUE")
     w.add_argument("--option", action="append", metavar="METHOD.KEY=VALUE")
@@ -157,7 +201,7 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--dask", default=None, metavar="ADDRESS", help="send the runs to a Dask scheduler")
     w.add_argument("--quantities", default=None, help="comma list of quantities to plot (default: shared ones)")
     w.add_argument("--x", choices=["linear", "inverse", "log"], default="linear", help="x axis of the plot")
-    w.add_argument("--out", default="out")
+    w.add_argument("--out", default="out", help="folder for sweep.json/csv/png and the per-point records")
     return p
 
 
@@ -169,6 +213,11 @@ def main(argv=None) -> int:
     except (CaseError, SolverError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        hint = (f"; finished points are kept: imperfect sweep --resume {args.resume or args.out}"
+                if args.command == "sweep" else "; no output was written")
+        print(f"\ninterrupted{hint}", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -31,19 +31,50 @@ def solver(method: str) -> Callable[..., Result]:
         raise MethodUnavailable(f"method {method!r} is not available ({e})") from None
 
 
+def unsupported_reason(case: Case, method: str) -> str | None:
+    """None when ``method`` can run ``case``; otherwise a one-line reason. A method
+    supports a case that has its discretization entry (an analytic model for
+    ``analytic``) and that its package's optional ``supports(case)`` accepts."""
+    if method not in case.methods():
+        return (f"method {method!r} does not support case {case.name!r} "
+                f"(supported: {', '.join(supported_methods(case))})")
+    try:
+        mod = importlib.import_module(SOLVERS[method][0])
+    except ImportError as e:
+        return f"method {method!r} is not available ({e})"
+    check = getattr(mod, "supports", None)
+    reason = check(case) if callable(check) else None
+    return None if reason is None else f"{method}: {reason}"
+
+
+def supported_methods(case: Case) -> list[str]:
+    """The methods that can run ``case`` (what ``imperfect list`` and ``all`` mean)."""
+    out = []
+    for m in case.methods():
+        try:
+            mod = importlib.import_module(SOLVERS[m][0])
+        except ImportError:
+            continue
+        check = getattr(mod, "supports", None)
+        if not callable(check) or check(case) is None:
+            out.append(m)
+    return out
+
+
 def resolve_methods(case: Case, methods) -> list[str]:
-    """Expand ``"all"`` to the methods supporting the case; check explicit names."""
+    """Expand ``"all"`` to the methods that can run the case; check explicit names (a
+    method that cannot run the case is a CaseError saying why)."""
     if isinstance(methods, str):
         methods = [m.strip() for m in methods.split(",") if m.strip()]
     methods = list(methods)
     if methods == ["all"]:
-        return case.methods()
+        return supported_methods(case)
     for m in methods:
         if m not in SOLVERS:
             raise CaseError(f"unknown method {m!r}; methods: {', '.join(SOLVERS)}, all")
-        if m not in case.methods():
-            raise CaseError(f"method {m!r} does not support case {case.name!r} "
-                            f"(supported: {', '.join(case.methods())})")
+        reason = unsupported_reason(case, m)
+        if reason is not None:
+            raise CaseError(reason)
     return methods
 
 

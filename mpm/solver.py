@@ -63,16 +63,22 @@ HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc"
                 "kinetic_grid")
 
 
+def supports(case) -> str | None:
+    """None when MPM can run ``case``, else the one-line reason (used by ``imperfect list``
+    and ``--methods all``, so no method is advertised for a case it refuses)."""
+    if case.analysis not in ("plane_stress", "plane_strain"):
+        return (f"analysis {case.analysis!r} is not supported yet; the MPM core implements "
+                "plane_stress and plane_strain")
+    return None
+
+
 class Model:
     """Everything a run needs: grid, particles, nodal fields, loads, conditions, tables."""
 
     def __init__(self, case, opts: dict):
-        if case.dimension != 2:
-            raise CaseError(f"mpm: analysis {case.analysis!r} is not supported yet; the MPM "
-                            "core implements plane_stress and plane_strain (3D kernels are "
-                            "an addition with the same layout)")
-        if case.analysis not in ("plane_stress", "plane_strain"):
-            raise CaseError(f"mpm: analysis must be plane_stress or plane_strain, got {case.analysis!r}")
+        reason = supports(case)
+        if reason is not None:
+            raise CaseError(f"mpm: {reason}")
         self.case = case
         self.opts = opts
         lo, hi = case.bounds()

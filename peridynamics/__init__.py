@@ -21,9 +21,9 @@ Model (see the module docstrings for the equations):
 Public surface: :func:`solve` (Case -> Result) and the parameter conversions.
 Units: mm, N, MPa; 2D quantities are per unit thickness times ``case.thickness``.
 """
-from interfaces.numba_cache import drop_stale_cache as _drop_stale_cache
+from interfaces.numba_cache import use_project_cache as _use_project_cache
 
-_drop_stale_cache(__path__[0])  # before any kernel module is imported
+_use_project_cache(__path__[0])  # before any kernel module is imported: cache out of the package
 
 from .parameters import (calibrate,  # noqa: E402 cpd_from_elastic, cpd_from_lame, elastic_from_cpd, lame_from_cpd,
                          lattice_ratios, nu2d_from_nu3d, nu3d_from_nu2d, poisson_2d)

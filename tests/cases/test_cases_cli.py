@@ -49,10 +49,59 @@ def test_bad_override_and_unsupported_method_are_one_line_errors(tmp_path, capsy
 
 
 def test_compare_relative_differences_against_reference():
-    comp = compare(cases.build("dls", Dt=5.0), "analytic", progress=False)
-    assert comp.reference == "analytic"
-    assert comp.relative_difference("analytic", "stiffness") == 0.0
-    assert "stiffness" in comp.table()
+    """(value - reference) / |reference| per quantity; FEM is the reference for a quantity
+    the case's reference does not give; a method is never compared with itself."""
+    from cases.compare import Comparison
+    from interfaces import Result
+
+    case = cases.build("dls", Dt=5.0)
+    res = {"analytic": Result("analytic", "dls", quantities={"stiffness": 200.0}),
+           "fem": Result("fem", "dls", quantities={"stiffness": 190.0, "strain_energy": 4.0}),
+           "mpm": Result("mpm", "dls", quantities={"stiffness": 210.0, "strain_energy": 5.0})}
+    comp = Comparison(case=case, results=res, reference="analytic")
+    assert comp.relative_difference("fem", "stiffness") == pytest.approx(-0.05)
+    assert comp.relative_difference("mpm", "stiffness") == pytest.approx(0.05)
+    assert comp.reference_for("strain_energy") == "fem"
+    assert comp.relative_difference("mpm", "strain_energy") == pytest.approx(0.25)
+    assert math.isnan(comp.relative_difference("analytic", "strain_energy"))
+    table = comp.table()
+    assert "(-5.00%)" in table and "(+25.00%)" in table
+
+
+def test_run_exit_code_when_a_requested_method_does_not_run(tmp_path, capsys):
+    """A method that cannot run the case is refused up front (exit 2); one that fails
+    while the others ran gives exit 3 with the others' outputs written."""
+    assert main(["run", "particulate", "--methods", "analytic,mpm", "--out", str(tmp_path / "p")]) == 2
+    assert "mpm: analysis '3d' is not supported" in capsys.readouterr().err
+    assert main(["run", "dls", "--methods", "analytic,fem", "--option", "fem.solver=nonsense",
+                 "--out", str(tmp_path / "d")]) == 3
+    err = capsys.readouterr().err
+    assert "did not run: fem" in err
+    assert (tmp_path / "d" / "results.json").exists()
+
+
+def test_list_advertises_only_methods_that_run(capsys):
+    assert main(["list"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("particulate"))
+    assert "mpm" not in line
+
+
+def test_out_that_cannot_be_written_is_refused_before_computing(tmp_path, capsys):
+    f = tmp_path / "file"
+    f.write_text("x")
+    assert main(["run", "dls", "--methods", "analytic", "--out", str(f)]) == 2
+    assert "is a file, not a folder" in capsys.readouterr().err
+    own = tmp_path / "mine"
+    own.mkdir()
+    (own / "notes.txt").write_text("keep me")
+    assert main(["run", "dls", "--methods", "analytic", "--out", str(own)]) == 2
+    assert "holds other files (notes.txt)" in capsys.readouterr().err
+    assert (own / "notes.txt").read_text() == "keep me"
+    again = tmp_path / "again"
+    assert main(["run", "dls", "--methods", "analytic", "--out", str(again)]) == 0
+    assert main(["run", "dls", "--methods", "analytic", "--set", "Dt=2", "--out", str(again)]) == 0
+    assert "Dt = 2" in (again / "case.toml").read_text()
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]   # no staging left
 
 
 def test_sweep_stiffness_rises_with_Dt_like_002_fig5(tmp_path):
