@@ -96,6 +96,8 @@ def cmd_run(args) -> int:
     out = check_output_dir(args.out, RUN_OUTPUTS)   # refuse an impossible --out before computing
     case = load_case(args.case, parse_assignments(args.set))
     comp = compare(case, args.methods, options=parse_options(args.option))
+    if not comp.results:                      # nothing ran: say why, write nothing
+        raise CaseError("; ".join(f"{m}: {msg}" for m, msg in comp.failures.items()))
     with staged_output(out) as stage:
         (stage / "case.toml").write_text(case.to_toml())
         payload = {"case": case.name, "reference": comp.reference,
@@ -212,6 +214,9 @@ def main(argv=None) -> int:
         return handler(args)
     except (CaseError, SolverError) as e:
         print(f"error: {e}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("error: out of memory: use a coarser discretization (element_size, cell, h)", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         hint = (f"; finished points are kept: imperfect sweep --resume {args.resume or args.out}"

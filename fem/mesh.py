@@ -76,6 +76,10 @@ def _subdivide(breaks: np.ndarray, h: float) -> np.ndarray:
 
 def element_sizes(element_size) -> tuple[float, float]:
     """``element_size`` as (hx, hy) in the common frame (a scalar means square cells)."""
+    flat = element_size if isinstance(element_size, (list, tuple)) else [element_size]
+    if any(isinstance(v, (bool, str)) or v is None for v in flat):
+        raise CaseError(f"element_size (h) must be a positive length in mm or a pair (hx, hy), "
+                        f"got {element_size!r}")
     h = np.atleast_1d(np.asarray(element_size, dtype=float))
     if h.size == 1:
         h = np.repeat(h, 2)

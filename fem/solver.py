@@ -74,7 +74,7 @@ def _options(case, options: dict) -> dict:
         raise CaseError(f"fem option {sorted(unknown)[0]!r} is unknown; options: "
                         + "; ".join(f"{k}: {v}" for k, v in OPTIONS.items()))
     order = opts.get("order", 2)
-    if order not in (1, 2):
+    if isinstance(order, bool) or order not in (1, 2):
         raise CaseError(f"fem option order must be 1 or 2, got {order!r}")
     out = {"order": int(order),
            "element_size": opts.get("element_size", default_element_size(case)),
@@ -166,6 +166,13 @@ def solve(case, **options) -> Result:
         if U_bulk + U_int <= 0:
             warnings.append("total energy <= 0: the negative interface parameters exceed the stable limit, "
                             "the result is not physical")
+    elif U_bulk < 0 or U_int < 0:
+        # all moduli and interface parameters >= 0: a negative quadratic form is round-off
+        # of an ill-conditioned matrix, not a result
+        raise SolverError(f"the solve lost all precision (strain energy {U_bulk:.3g}, interface energy "
+                          f"{U_int:.3g} N mm < 0): the material constants or interface parameters span "
+                          "too many orders of magnitude for double precision; check them (e.g. a "
+                          "modulus of 1e-12 MPa beside 1e4)")
     per_volume = (case.measurements.get("interface_energy") or {}).get("per_volume")
     if per_volume:      # 000 Fig 5: interfacial energy per unit specimen volume
         quantities["interface_energy_per_volume"] = U_int / float(per_volume)

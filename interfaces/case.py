@@ -31,6 +31,16 @@ ALL_BODIES = "*"
 BC_KINDS = ("fixed", "displacement", "traction", "velocity", "deformation_gradient")
 COMPONENTS = ("x", "y", "z")
 METHODS = ("analytic", "fem", "mpm", "cpd")
+#: measurement name -> its fields ("positive": a length/volume/strain > 0; "any": checked by
+#: the methods that measure it)
+MEASUREMENTS = {
+    "stiffness": {"load": "any", "support": "any", "direction": "any"},
+    "interface_energy": {"per_volume": "positive"},
+    "strain_energy": {},
+    "bulk_modulus": {"strain": "positive", "volume": "positive"},
+    "transmitted_energy": {"x_incident": "any", "x_interface": "any", "x_transmitted": "any",
+                           "duration": "positive"},
+}
 
 
 @dataclass
@@ -316,6 +326,7 @@ class Case:
                 raise CaseError(f"bodies[{i}].material {b.material!r} is not in materials ({', '.join(self.materials)})")
             if b.shape.dimension != self.dimension:
                 raise CaseError(f"bodies[{i}].shape is {b.shape.dimension}D but analysis {self.analysis!r} is {self.dimension}D")
+        self._check_overlaps()
         for i, p in enumerate(self.interfaces):
             for end in ("a", "b"):
                 if getattr(p, end) not in names:
@@ -328,18 +339,25 @@ class Case:
             if bc.body not in names and bc.body != ALL_BODIES:
                 raise CaseError(f"boundary_conditions[{i}].body {bc.body!r} is not a body name ({', '.join(sorted(names))})")
             try:
+                if any(c == "z" for c in bc.components) and self.dimension == 2:
+                    raise CaseError(f"components has z in a 2D case, got {list(bc.components)!r} "
+                                    "(2D components: x, y)")
                 if bc.kind == "deformation_gradient":
                     bc.gradient(self.dimension)
                 elif bc.kind != "traction":
                     bc.vector(self.dimension)
-                if any(c == "z" for c in bc.components) and self.dimension == 2:
-                    raise CaseError(f"components has z in a 2D case, got {bc.components!r}")
                 if SIDES.index(bc.side) >= 2 * self.dimension:
                     raise CaseError(f"side {bc.side!r} does not exist in {self.dimension}D")
                 if bc.body != ALL_BODIES and not hasattr(self.body(bc.body).shape, "edge_mask"):
                     raise CaseError(f"body {bc.body!r} has a {self.body(bc.body).shape.kind} shape without named sides")
             except CaseError as e:
                 raise CaseError(f"boundary_conditions[{i}].{e}") from None
+        self._validate_measurements()
+        if "stiffness" in self.measurements and not any(
+                bc.kind in ("traction", "displacement", "velocity", "deformation_gradient")
+                and any(v != 0 for v in bc.value) for bc in self.boundary_conditions):
+            raise CaseError("measurements.stiffness: no boundary condition loads the specimen (no non-zero "
+                            "traction or displacement): add one on the load sides")
         st = self.measurements.get("stiffness")
         if st is not None:
             for key in ("load", "support"):
@@ -362,6 +380,47 @@ class Case:
             arr = np.asarray(seg, dtype=float) if _is_numeric_list(seg) else None
             if arr is None or arr.shape != (2, self.dimension):
                 raise CaseError(f"lines.{k} must be two points [[x0, y0], [x1, y1]], got {seg!r}")
+
+    def _check_overlaps(self, samples: int = 4096) -> None:
+        """Two bodies must not share volume (each point has one material). Tested on a
+        fixed quasi-random sample of the intersection of their bounding boxes: a common
+        region of more than ~0.1 % of that box is found; touching sides are not overlaps."""
+        if len(self.bodies) < 2:
+            return
+        boxes = [b.shape.bounds() for b in self.bodies]
+        unit = _halton(samples, self.dimension)
+        for i in range(len(self.bodies)):
+            for j in range(i + 1, len(self.bodies)):
+                lo = np.maximum(boxes[i][0], boxes[j][0])
+                hi = np.minimum(boxes[i][1], boxes[j][1])
+                if np.any(hi <= lo):
+                    continue
+                pts = lo + unit * (hi - lo)
+                both = self.bodies[i].contains(pts) & self.bodies[j].contains(pts)
+                if np.count_nonzero(both) > samples // 1000:
+                    share = np.count_nonzero(both) / samples * float(np.prod(hi - lo))
+                    unit_txt = "mm^3" if self.dimension == 3 else "mm^2"
+                    raise CaseError(f"bodies {self.bodies[i].name!r} and {self.bodies[j].name!r} overlap "
+                                    f"(about {share:.3g} {unit_txt} in common): every point must belong "
+                                    "to one body (use holes or move a body)")
+
+    def _validate_measurements(self) -> None:
+        """Known measurement names and fields only; numbers where numbers belong."""
+        if not isinstance(self.measurements, dict):
+            raise CaseError("measurements must be a table")
+        for name, spec in self.measurements.items():
+            if name not in MEASUREMENTS:
+                raise CaseError(f"measurements.{name} is not a measurement ({', '.join(MEASUREMENTS)})")
+            if not isinstance(spec, dict):
+                raise CaseError(f"measurements.{name} must be a table, got {spec!r}")
+            allowed = MEASUREMENTS[name]
+            extra = sorted(set(spec) - set(allowed))
+            if extra:
+                raise CaseError(f"measurements.{name}.{extra[0]} is not a field of {name} "
+                                f"(fields: {', '.join(allowed) or 'none'})")
+            for key, kind in allowed.items():
+                if key in spec and kind == "positive":
+                    spec[key] = check_number(f"measurements.{name}.{key}", spec[key], low=0, low_open=True)
 
     # ---- serialisation ---------------------------------------------------
     def to_dict(self) -> dict:
@@ -424,9 +483,11 @@ class Case:
         for i, p in enumerate(_list(d.get("interfaces", []), "interfaces")):
             w = f"interfaces[{i}]"
             _require(p, ("a", "b", "law"), w)
+            _only(p, ("a", "b", "law", "zones"), w, "an interface")
             zones = []
             for j, z in enumerate(_list(p.get("zones", []), f"{w}.zones")):
                 _require(z, ("shape", "law"), f"{w}.zones[{j}]")
+                _only(z, ("shape", "law"), f"{w}.zones[{j}]", "a zone")
                 zones.append((shape_from_dict(z["shape"], f"{w}.zones[{j}].shape"), law_from_dict(z["law"], f"{w}.zones[{j}].law")))
             interfaces.append(InterfacePair(a=_str(p["a"], f"{w}.a"), b=_str(p["b"], f"{w}.b"),
                                             law=law_from_dict(p["law"], f"{w}.law"), zones=zones))
@@ -455,6 +516,21 @@ class Case:
                    reference=d.get("reference"), lines=d.get("lines", {}))
 
 
+def _halton(n: int, dimension: int) -> np.ndarray:
+    """n points of the Halton sequence in [0, 1)^dimension (bases 2, 3, 5), offset so
+    that none lands on a shared side of two bodies."""
+    out = np.empty((n, dimension))
+    for d, base in enumerate((2, 3, 5)[:dimension]):
+        k = np.arange(1, n + 1)
+        f, x = 1.0, np.zeros(n)
+        while np.any(k > 0):
+            f /= base
+            x += f * (k % base)
+            k //= base
+        out[:, d] = x
+    return (out + 0.5 / (7 * n)) % 1.0
+
+
 def _is_numeric_list(seg) -> bool:
     try:
         np.asarray(seg, dtype=float)
@@ -473,6 +549,12 @@ def _str(v, where: str) -> str:
     if not isinstance(v, str) or not v:
         raise CaseError(f"{where} must be a non-empty string, got {v!r}")
     return v
+
+
+def _only(d: dict, keys, where: str, what: str) -> None:
+    extra = sorted(set(d) - set(keys))
+    if extra:
+        raise CaseError(f"{where}.{extra[0]} is not a field of {what} (fields: {', '.join(keys)})")
 
 
 def _require(d, keys, where: str) -> None:

@@ -70,7 +70,7 @@ def build_tagged(registry: dict, d, where: str, convert_lists: bool = False, mak
     if not isinstance(d, dict):
         raise CaseError(f"{where} must be a table, got {d!r}")
     kind = d.get("type")
-    if kind not in registry:
+    if not isinstance(kind, str) or kind not in registry:
         raise CaseError(f"{where}.type must be one of {', '.join(registry)}, got {kind!r}")
     cls = registry[kind]
     kwargs = {k: (tuple(v) if convert_lists and isinstance(v, list) else v) for k, v in d.items() if k != "type"}

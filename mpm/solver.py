@@ -111,7 +111,11 @@ class Model:
         deformable = [(C, m) for C, m, r in zip(self.C, mats, rigid) if not r]
         c_max = max(m.wave_speed(case.analysis) for _, m in deformable)
         c_min = min(math.sqrt(min(C[0, 0], C[1, 1]) / m.rho) for C, m in deformable)
-        self.dt = opts["dt"] or opts["cfl"] * float(np.min(self.grid.cell)) / c_max
+        dt_stable = float(np.min(self.grid.cell)) / c_max      # one cell per wave transit
+        if opts["dt"] and opts["dt"] > dt_stable:
+            raise CaseError(f"mpm option dt = {opts['dt']:.3g} s is above the stable explicit limit "
+                            f"cell / wave speed = {dt_stable:.3g} s; lower dt or leave it to cfl")
+        self.dt = opts["dt"] or opts["cfl"] * dt_stable
         length = float(np.max(hi - lo))
         self.T1 = 4.0 * length / c_min
         ramps = [ld["ramp_time"] for ld in self.loads if ld["ramp_time"] is not None]
@@ -128,8 +132,12 @@ class Model:
         else:
             self.alpha = 0.0
         if self.alpha * self.dt > 0.5:
-            raise CaseError(f"mpm option alpha = {self.alpha:g} 1/s is too large for dt = {self.dt:g} s "
-                            "(alpha dt must be <= 0.5): lower alpha")
+            if opts["alpha"] is not None:
+                raise CaseError(f"mpm option alpha = {self.alpha:g} 1/s is too large for dt = {self.dt:g} s "
+                                "(alpha dt must be <= 0.5): lower alpha")
+            raise CaseError(f"mpm time step dt = {self.dt:.3g} s is too long for the grid damping the "
+                            f"specimen needs (2 omega = {self.alpha:.3g} 1/s, alpha dt must be <= 0.5): "
+                            f"lower dt (or cfl) below {0.5 / self.alpha:.3g} s")
         self.bcs = nodal_conditions(case, self.grid, self.ramp_time)
         if rigid.any():
             self.bcs = with_rigid_conditions(case, self.bcs, rigid, self.grid.N, self.grid.D,

@@ -16,14 +16,21 @@ from interfaces.errors import CaseError, check_number
 __all__ = ["CaseError", "positive", "nonnegative", "interface_stiffness", "fraction", "points"]
 
 
+#: largest finite magnitude a length, modulus or load may have (mm, MPa, N): beyond it
+#: the closed forms overflow double precision (a cube of 1e103 is already inf)
+MAX_MAGNITUDE = 1e30
+
+
 def positive(name: str, value, *, allow_inf: bool = False) -> float:
-    """``value`` as a float > 0 (finite unless ``allow_inf``)."""
-    return check_number(name, value, low=0.0, low_open=True, allow_inf=allow_inf)
+    """``value`` as a float in (0, 1e30] (or inf when ``allow_inf``)."""
+    v = check_number(name, value, low=0.0, low_open=True, allow_inf=allow_inf)
+    return v if math.isinf(v) else check_number(name, v, low=0.0, high=MAX_MAGNITUDE, low_open=True)
 
 
 def nonnegative(name: str, value, *, allow_inf: bool = False) -> float:
-    """``value`` as a float >= 0 (finite unless ``allow_inf``)."""
-    return check_number(name, value, low=0.0, allow_inf=allow_inf)
+    """``value`` as a float in [0, 1e30] (or inf when ``allow_inf``)."""
+    v = check_number(name, value, low=0.0, allow_inf=allow_inf)
+    return v if math.isinf(v) else check_number(name, v, low=0.0, high=MAX_MAGNITUDE)
 
 
 def interface_stiffness(name: str, value, *, allow_negative: bool = False) -> float:

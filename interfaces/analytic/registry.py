@@ -53,13 +53,21 @@ def _named(fn: Callable) -> Callable:
     @functools.wraps(fn)
     def wrapper(**params):
         try:
-            return fn(**params)
+            out = fn(**params)
+        except (OverflowError, ZeroDivisionError, FloatingPointError) as e:
+            raise CaseError(f"analytic: the closed form overflows for these parameters ({e}); "
+                            "check the magnitudes of the analytic.* lengths and moduli (mm, MPa)") from None
         except CaseError as e:
             msg = str(e)
             first = msg.split(" ", 1)[0]
             if first in params or first in _PARAMETER_NAMES:
                 msg = f"analytic.{msg}"
             raise CaseError(msg) from None
+        bad = [k for k, v in out.items() if isinstance(v, float) and math.isnan(v)]
+        if bad:
+            raise CaseError(f"analytic: {bad[0]} is NaN for these parameters; check the magnitudes of "
+                            "the analytic.* lengths and moduli (mm, MPa)")
+        return out
     return wrapper
 
 

@@ -1,0 +1,83 @@
+"""Bad case input reported in the tracker: each is a one-line CaseError naming the field,
+never a traceback from deep inside numpy, nor an exit-0 run with nonsense."""
+import math
+import re
+
+import pytest
+
+import cases
+from cases.compare import compare
+from interfaces import Case, CaseError
+
+
+def _dls_dict():
+    return cases.build("dls").to_dict()
+
+
+def _edit(d, path, value):
+    cur = d
+    for k in path[:-1]:
+        cur = cur[k]
+    if value is _DELETE:
+        del cur[path[-1]]
+    else:
+        cur[path[-1]] = value
+    return d
+
+
+_DELETE = object()
+
+BAD = [
+    (("boundary_conditions", 0, "components"), ["z"], r"boundary_conditions\[0\]\.components has z in a 2D case"),
+    (("materials", "wood", "type"), [], r"materials\.wood\.type must be one of"),
+    (("analytic", "E2"), 1.7e308, r"analytic\.E2 must be in \(0, 1e\+30\]"),
+    (("interfaces", 0, "bogus"), 1, r"interfaces\[0\]\.bogus is not a field of an interface"),
+    (("measurements", "stiffness", "bogus"), 3, r"measurements\.stiffness\.bogus is not a field of stiffness"),
+    (("measurements", "bogus"), {}, r"measurements\.bogus is not a measurement"),
+    (("boundary_conditions",), [], r"measurements\.stiffness: no boundary condition loads the specimen"),
+    (("bodies", 2, "shape", "x0"), 1.0, r"bodies 'center' and 'outer_right' overlap \(about 5 mm\^2"),
+]
+
+
+@pytest.mark.parametrize("path,value,message", BAD, ids=[m.split("\\")[0][:30] for *_, m in BAD])
+def test_bad_case_field_is_one_line_error(path, value, message):
+    d = _edit(_dls_dict(), path, value)
+    with pytest.raises(CaseError) as e:
+        case = Case.from_dict(d)
+        compare(case, "analytic", progress=False, skip_unavailable=False)
+    assert re.search(message, str(e.value)), str(e.value)
+    assert "\n" not in str(e.value)
+
+
+def test_interface_measurement_number_checked():
+    d = cases.build("two_layer").to_dict()
+    d["measurements"]["interface_energy"]["per_volume"] = math.nan
+    with pytest.raises(CaseError, match=r"measurements\.interface_energy\.per_volume must be a number, got NaN"):
+        Case.from_dict(d)
+
+
+def test_stale_analytic_table_is_refused():
+    """An edited interface with the old Dt left in [analytic] would compare FEM with a
+    model of another specimen (-79 % in the tracker's report)."""
+    d = _dls_dict()
+    d["interfaces"][0]["law"]["Dt"] = 2.0
+    d["interfaces"][1]["law"]["Dt"] = 2.0
+    case = Case.from_dict(d)
+    with pytest.raises(CaseError, match=r"analytic\.Dt = inf but interfaces\[0\]\.law has Dt = 2"):
+        compare(case, "analytic", progress=False, skip_unavailable=False)
+    d["analytic"]["Dt"] = 2.0
+    comp = compare(Case.from_dict(d), "analytic", progress=False, skip_unavailable=False)
+    assert comp.value("analytic", "stiffness") == pytest.approx(750.1, abs=0.05)   # 002 Fig 5 at Dt = 2
+
+
+def test_touching_bodies_are_not_overlaps():
+    for name in cases.names():
+        cases.build(name)          # every named case: bodies abut (or fill holes), none overlap
+
+
+@pytest.mark.parametrize("option,value,message", [
+    ("element_size", True, "element_size"), ("order", True, "order must be 1 or 2")])
+def test_fem_boolean_options_refused(option, value, message):
+    import fem
+    with pytest.raises(CaseError, match=message):
+        fem.solve(cases.build("two_layer", fem_h=1.0), **{option: value})
