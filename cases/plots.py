@@ -100,50 +100,94 @@ def _abscissa(comparison, pname: str) -> str:
 
 
 def plot_comparison(comparison, path) -> Path:
-    """One figure: a panel per shared quantity (value by method, reference as a dashed
-    line, relative difference printed) and a panel per profile component along the
-    case's lines and the interface (all methods on the same axes)."""
-    quantities = shared_quantities(comparison)
+    """One figure: an agreement panel (each method's relative difference to the reference,
+    per shared quantity, on its own axis, with the values printed) and a panel per profile
+    component along the case's lines and the interface (all methods on the same axes)."""
+    shared = shared_quantities(comparison)
+    quantities = [q for q in shared if q in HEADLINE] or shared    # the rest is in the table
     profile_panels_ = profile_panels(comparison)
-    n = len(quantities) + len(profile_panels_)
+    n = (1 if quantities else 0) + len(profile_panels_)
     ncol = min(3, max(n, 1))
     nrow = max(1, math.ceil(n / ncol))
-    fig, axes = plt.subplots(nrow, ncol, figsize=(4.6 * ncol, 3.6 * nrow), squeeze=False)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.8 * ncol, 3.8 * nrow), squeeze=False)
     axes = axes.ravel()
-    methods = list(comparison.results)
-    for ax, q in zip(axes, quantities):
-        vals = [comparison.value(m, q) for m in methods]
-        for i, (m, v) in enumerate(zip(methods, vals)):
-            if math.isfinite(v):
-                ax.bar(i, v, color=_style(m)["color"], alpha=0.75)
-                d = comparison.relative_difference(m, q)
-                lab = f"{v:.4g}" + (f"\n{100 * d:+.1f}%" if m != comparison.reference_for(q) and math.isfinite(d) else "")
-                ax.annotate(lab, (i, v), ha="center", va="bottom", fontsize=8)
-        ref_method = comparison.reference_for(q)
-        if ref_method is not None:
-            ax.axhline(comparison.value(ref_method, q), color="k", lw=1, ls="--", label=f"reference ({ref_method})")
-            ax.legend(fontsize=7, loc="lower right")
-        ax.set_xticks(range(len(methods)), methods)
-        ax.set_title(f"{q} ({UNITS.get(q, '')})", fontsize=10)
-        finite = [v for v in vals if math.isfinite(v)]
-        if finite:
-            ax.set_ylim(0, 1.25 * max(finite) if max(finite) > 0 else None)
-    for ax, (pname, key) in zip(axes[len(quantities):], profile_panels_):
-        absc = _abscissa(comparison, pname)
-        for m, r in comparison.results.items():
-            prof = r.profiles.get(pname)
-            if prof is None or key not in prof:
-                continue
-            st = _style(m)
-            s, v = np.asarray(prof[absc], dtype=float), np.asarray(prof[key], dtype=float)
-            order = np.argsort(s)
-            ax.plot(s[order], v[order], color=st["color"], ls=st["ls"], lw=st["lw"], label=m,
-                    marker=st["marker"] if len(s) < 40 else None, ms=3)
-        ax.set_xlabel(f"distance along {pname} (mm)" if absc == "s" else f"{absc} (mm)")
-        ax.set_ylabel(LABELS.get(key, key))
-        ax.set_title(f"{pname}: {key}", fontsize=10)
-        ax.legend(fontsize=7)
+    if quantities:
+        _agreement_panel(axes[0], comparison, quantities)
+    scale_t = _tangential_jump_scale(comparison)
+    for ax, (pname, key) in zip(axes[1 if quantities else 0:], profile_panels_):
+        _profile_panel(ax, comparison, pname, key)
+        if key == "jump_n" and pname.startswith("interface_jump") and _normal_is_perfect(comparison.case):
+            # expected zero: show it on the scale of the tangential jump and say what it is
+            if scale_t > 0:
+                ax.set_ylim(-scale_t, scale_t)
+            ax.text(0.5, 0.92, "Dn = inf: [u_n] = 0 expected;\nnon-zero values are extrapolation noise",
+                    transform=ax.transAxes, ha="center", va="top", fontsize=7, color="0.3")
     return _finish(fig, axes[n:], f"{comparison.case.name}: {comparison.case.description}", path)
+
+
+def _agreement_panel(ax, comparison, quantities: list[str]) -> None:
+    """Rows = quantities, x = (value - reference) / |reference| in %, one marker per
+    method that gives the quantity; the reference's value is in the row label."""
+    methods = list(comparison.results)
+    spread = 0.0
+    for row, q in enumerate(quantities):
+        ref = comparison.reference_for(q)
+        for k, m in enumerate(methods):
+            v = comparison.value(m, q)
+            if not math.isfinite(v):
+                continue
+            d = 0.0 if m == ref else 100.0 * comparison.relative_difference(m, q)
+            if not math.isfinite(d):
+                continue
+            y = row + 0.18 * (k - (len(methods) - 1) / 2)
+            st = _style(m)
+            ax.plot([d], [y], marker=st["marker"] or "D", color=st["color"], ls="none", ms=6,
+                    label=m if row == 0 or m not in ax.get_legend_handles_labels()[1] else None)
+            ax.annotate(f"{v:.5g}" + ("" if m == ref else f" ({d:+.2f}%)"), (d, y), xytext=(5, 0),
+                        textcoords="offset points", va="center", fontsize=7, color=st["color"])
+            spread = max(spread, abs(d))
+    ax.axvline(0.0, color="k", lw=0.8)
+    ax.set_yticks(range(len(quantities)),
+                  [f"{q} ({UNITS.get(q, '-')})\nref: {comparison.reference_for(q)}" for q in quantities],
+                  fontsize=7)
+    ax.set_ylim(len(quantities) - 0.5, -0.5)
+    half = max(1.5 * spread, 0.05)
+    ax.set_xlim(-half, 2.2 * half)     # room on the right for the printed values
+    ax.set_xlabel("difference to the reference (%)")
+    ax.set_title("agreement with the reference", fontsize=10)
+    ax.grid(axis="x", alpha=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+
+
+def _profile_panel(ax, comparison, pname: str, key: str) -> None:
+    absc = _abscissa(comparison, pname)
+    for m, r in comparison.results.items():
+        prof = r.profiles.get(pname)
+        if prof is None or key not in prof:
+            continue
+        st = _style(m)
+        s, v = np.asarray(prof[absc], dtype=float), np.asarray(prof[key], dtype=float)
+        order = np.argsort(s)
+        ax.plot(s[order], v[order], color=st["color"], ls=st["ls"], lw=st["lw"], label=m,
+                marker=st["marker"] if len(s) < 40 else None, ms=3)
+    ax.set_xlabel(f"distance along {pname} (mm)" if absc == "s" else f"{absc} (mm)")
+    ax.set_ylabel(LABELS.get(key, key))
+    ax.set_title(f"{pname}: {key}", fontsize=10)
+    ax.legend(fontsize=7)
+
+
+def _normal_is_perfect(case) -> bool:
+    laws = [p.law for p in case.interfaces] + [z[1] for p in case.interfaces for z in p.zones]
+    return bool(laws) and all(getattr(law, "perfect_normal", False) for law in laws)
+
+
+def _tangential_jump_scale(comparison) -> float:
+    peak = 0.0
+    for r in comparison.results.values():
+        v = np.asarray(r.profiles.get("interface_jump", {}).get("jump_t", []), dtype=float)
+        if v.size and np.isfinite(v).any():
+            peak = max(peak, float(np.nanmax(np.abs(v))))
+    return 1.1 * peak
 
 
 def sweep_quantities(sweep) -> list[str]:
