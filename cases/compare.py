@@ -18,6 +18,11 @@ from interfaces import Case, CaseError, SolverError
 from .methods import resolve_methods, run
 
 
+#: model variants the table shows beside a quantity: (variant quantity, quantity, label)
+VARIANTS = (("stiffness_eq40_42", "stiffness",
+             "stiffness, 002 Eq 40-42 as printed (strips rigid in shear)"),)
+
+
 @dataclass
 class Comparison:
     """Results of several methods on one case, with differences to the reference."""
@@ -78,6 +83,25 @@ class Comparison:
             Path(path).write_text(buf.getvalue())
         return buf.getvalue()
 
+    def _variant_rows(self, methods) -> list[str]:
+        """A row per model variant the analytic result gives (e.g. the DLS shear lag as
+        printed in 002 beside the form with the strips' own shear), with each numerical
+        method's difference to that variant."""
+        rows = []
+        for variant, quantity, label in VARIANTS:
+            v = self.value("analytic", variant) if "analytic" in self.results else math.nan
+            if not math.isfinite(v):
+                continue
+            cells = []
+            for m in methods:
+                x = self.value(m, quantity)
+                txt = f"{v:.5g}" if m == "analytic" else "-" if not math.isfinite(x) else \
+                    f"({100 * (x - v) / abs(v):+.2f}%)"
+                cells.append(f"{txt:>24}")
+            rows.append(f"{label}:")
+            rows.append(f"{'':<22}" + "".join(cells))
+        return rows
+
     def table(self) -> str:
         """Human-readable table: one row per quantity, one column per method."""
         methods = list(self.results)
@@ -98,6 +122,7 @@ class Comparison:
                     txt += f" ({100 * d:+.2f}%)"
                 cells.append(f"{txt:>24}")
             lines.append(f"{q:<22}" + "".join(cells))
+        lines.extend(self._variant_rows(methods))
         lines.append("(every quantity of every method is in results.json and comparison.csv)")
         lines.append(f"{'time (s)':<22}" + "".join(f"{self.results[m].timings.get('total', math.nan):>24.3g}" for m in methods))
         for m, r in self.results.items():

@@ -122,9 +122,11 @@ def _dls(params: dict[str, Any]) -> tuple[DoubleLapShear, dict[str, Any]]:
 @_named
 def dls_shear_lag(**params) -> dict[str, float]:
     """DLS specimen (002 Eq 40-42, Appendix A): stiffness with arms, bonded compliance, beta l."""
-    m, _ = _dls(params)
+    m, p = _dls(params)
     k = m.stiffness
-    return {"stiffness": k, "compliance": m.compliance,
+    printed = DoubleLapShear(p["t1"], p["E1"], p["G1"], p["t2"], p["E2"], p["G2"], p["l"], p["W"],
+                             p["L"], p["Dt"], False).stiffness
+    return {"stiffness": k, "stiffness_eq40_42": printed, "compliance": m.compliance,
             "specimen_compliance": math.inf if k == 0.0 else 1.0 / k,
             "arm_compliance": m.arm_compliance, "beta": m.beta, "beta_l": m.beta_l,
             "long_bond_stiffness": 1.0 / m.compliance_long_bond}

@@ -98,6 +98,11 @@ def test_random_bad_values_never_raise_raw_tracebacks(path, value):
         if path[0] == "materials" and path[-1] in ("E_A", "E_T", "nu_T"):
             # the positive-definiteness bound couples nu_A with E_A, E_T and nu_T
             assert msg.startswith((dotted, "materials.wood.nu_A must satisfy")), msg
+        elif path[0] == "bodies" and path[2] == "shape" and " overlap (about " in msg:
+            # a moved or resized body now shares area with a neighbour: named by both bodies
+            assert msg.startswith("bodies '"), msg
+        elif path[0] == "boundary_conditions" and path[-1] == "value" and "no boundary condition loads" in msg:
+            assert msg.startswith("measurements.stiffness:"), msg
         elif path[-1] == "name":
             assert msg.startswith(("bodies[0].name", "interfaces[", "boundary_conditions[", "measurements.")), msg
         else:

@@ -142,12 +142,16 @@ def test_mpm_parallel_blocks_independent_of_thread_count():
     """Same blocks on 1 and 2 threads: bit-identical (the block sums are added in
     block order, never in thread order)."""
     out = []
-    for threads in (1, 2):
+    # warm-up run: the two measured runs then both load the cached kernels (a freshly
+    # compiled kernel and its cache-loaded copy may differ in the last bit of a fastmath
+    # reduction, which is not what this test is about)
+    for threads in (1, 1, 2):
         env = dict(os.environ, NUMBA_NUM_THREADS=str(threads))
         res = subprocess.run([sys.executable, "-c", _THREADS_SCRIPT.format(root=str(ROOT))],
                              env=env, capture_output=True, text=True, timeout=600)
         assert res.returncode == 0, res.stderr[-2000:]
         out.append(json.loads(res.stdout.strip().splitlines()[-1]))
+    out = out[1:]
     assert [o["threads"] for o in out] == [1, 2]
     assert out[0]["x"] == out[1]["x"]
     assert out[0]["hist"] == out[1]["hist"]
