@@ -87,6 +87,12 @@ def cmd_list(args) -> int:
 
 
 def cmd_show(args) -> int:
+    if args.params:
+        if args.case.endswith(".toml"):
+            raise CaseError("--params lists a named case's --set parameters; a case file has none")
+        registry.parameters(args.case)       # unknown names refused with the list
+        print(registry.describe_parameters(args.case))
+        return 0
     case = load_case(args.case, parse_assignments(args.set))
     print(case.to_toml())
     return 0
@@ -95,10 +101,15 @@ def cmd_show(args) -> int:
 def cmd_run(args) -> int:
     out = check_output_dir(args.out, RUN_OUTPUTS)   # refuse an impossible --out before computing
     case = load_case(args.case, parse_assignments(args.set))
-    comp = compare(case, args.methods, options=parse_options(args.option))
-    if not comp.results:                      # nothing ran: say why, write nothing
-        raise CaseError("; ".join(f"{m}: {msg}" for m, msg in comp.failures.items()))
+    options = parse_options(args.option)
     with staged_output(out) as stage:
+        series = _series_option(args, case, options, stage)
+        comp = compare(case, args.methods, options=options)
+        if not comp.results:                  # nothing ran: say why, write nothing
+            raise CaseError("; ".join(f"{m}: {msg}" for m, msg in comp.failures.items()))
+        if series and "mpm" in comp.results:  # the frames move with the folder
+            diag = comp.results["mpm"].diagnostics
+            diag["vtk_series"] = str(out / series.name / Path(diag.get("vtk_series", "series.pvd")).name)
         (stage / "case.toml").write_text(case.to_toml())
         payload = {"case": case.name, "reference": comp.reference,
                    "results": {m: r.to_dict(include_fields=False) for m, r in comp.results.items()},
@@ -110,12 +121,28 @@ def cmd_run(args) -> int:
                 r.to_vtk(stage / f"{case.name}_{m}.vtu")
         png = plot_comparison(comp, stage / f"{case.name}_comparison.png")
     print(comp.table())
-    print(f"\nwrote {out / 'results.json'}, {out / 'comparison.csv'}, {out / png.name}")
+    print(f"\nwrote {out / 'results.json'}, {out / 'comparison.csv'}, {out / png.name}"
+          + (f", {out / series.name}/ (MPM frames)" if series and "mpm" in comp.results else ""))
     if comp.failures:
         print(f"error: {len(comp.failures)} of {len(comp.failures) + len(comp.results)} requested methods "
               f"did not run: {', '.join(comp.failures)} (reasons above)", file=sys.stderr)
         return 3
     return 0
+
+
+def _series_option(args, case, options: dict, stage: Path) -> Path | None:
+    """--series N: MPM writes N VTU frames and a .pvd into OUT/<case>_mpm_vtk/."""
+    if not args.series:
+        return None
+    if args.series < 1:
+        raise CaseError(f"--series must be a number of frames >= 1, got {args.series}")
+    folder = stage / f"{case.name}_mpm_vtk"
+    mpm = options.setdefault("mpm", {})
+    if "vtk_dir" in mpm:
+        raise CaseError("give --series or --option mpm.vtk_dir, not both")
+    mpm["vtk_dir"] = str(folder)
+    mpm.setdefault("vtk_frames", args.series)
+    return folder
 
 
 def cmd_sweep(args) -> int:
@@ -184,13 +211,16 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("show", help="print a resolved case as TOML")
     s.add_argument("case")
     s.add_argument("--set", action="append", metavar="KEY=VALUE")
+    s.add_argument("--params", action="store_true", help="list the case's --set parameters with defaults and units")
     r = sub.add_parser("run", help="run a case across methods and plot agreement")
     r.add_argument("case", help="a case name (imperfect list) or a .toml case file")
     r.add_argument("--methods", default="all", help="comma list of analytic,fem,mpm,cpd or 'all'")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", help="case parameter override")
     r.add_argument("--option", action="append", metavar="METHOD.KEY=VALUE", help="solver option, e.g. mpm.cell=0.2")
     r.add_argument("--out", default="out")
-    r.add_argument("--no-vtk", action="store_true")
+    r.add_argument("--no-vtk", action="store_true", help="no VTU file of each method's final state")
+    r.add_argument("--series", type=int, default=0, metavar="N",
+                   help="MPM: also write N VTU frames over the run and a .pvd into OUT/<case>_mpm_vtk/")
     w = sub.add_parser("sweep", help="run a case over parameter values, every method, in parallel")
     w.add_argument("case", nargs="?", help="a case name (not needed with --resume)")
     w.add_argument("--param")

@@ -140,6 +140,9 @@ class BoundaryCondition:
     ramp: str = "linear"
 
     def __post_init__(self):
+        for name in ("kind", "body", "side", "ramp"):
+            if not isinstance(getattr(self, name), str) or not getattr(self, name):
+                raise CaseError(f"{name} must be a name, got {getattr(self, name)!r}")
         if self.ramp not in RAMPS:
             raise CaseError(f"ramp must be one of {', '.join(RAMPS)}, got {self.ramp!r}")
         if self.kind not in BC_KINDS:
@@ -262,7 +265,7 @@ class Case:
         """Unit vector of measurements.stiffness.direction (an axis letter or a vector)."""
         d = self.measurements.get("stiffness", {}).get("direction", "y")
         if isinstance(d, str):
-            if d not in COMPONENTS[: self.dimension]:
+            if not isinstance(d, str) or d not in COMPONENTS[: self.dimension]:
                 raise CaseError(f"direction must be one of {', '.join(COMPONENTS[: self.dimension])} or a vector, got {d!r}")
             v = np.zeros(self.dimension)
             v[COMPONENTS.index(d)] = 1.0
@@ -361,8 +364,12 @@ class Case:
         st = self.measurements.get("stiffness")
         if st is not None:
             for key in ("load", "support"):
+                if not isinstance(st.get(key, []), (list, tuple)):
+                    raise CaseError(f"measurements.stiffness.{key} must be a list of [body, side], "
+                                    f"got {st[key]!r}")
                 for j, item in enumerate(st.get(key, [])):
                     if not (isinstance(item, (list, tuple)) and len(item) == 2
+                            and all(isinstance(x, str) for x in item)
                             and (item[0] in names or item[0] == ALL_BODIES) and item[1] in SIDES):
                         raise CaseError(f"measurements.stiffness.{key}[{j}] must be [body, side] with a known body, got {item!r}")
             try:
@@ -388,12 +395,14 @@ class Case:
         if len(self.bodies) < 2:
             return
         boxes = [b.shape.bounds() for b in self.bodies]
+        lo_all, hi_all = self.bounds()
+        tol = 1e-9 * float(np.max(hi_all - lo_all))      # round-off of rotated sides
         unit = _halton(samples, self.dimension)
         for i in range(len(self.bodies)):
             for j in range(i + 1, len(self.bodies)):
                 lo = np.maximum(boxes[i][0], boxes[j][0])
                 hi = np.minimum(boxes[i][1], boxes[j][1])
-                if np.any(hi <= lo):
+                if np.any(hi - lo <= tol):
                     continue
                 pts = lo + unit * (hi - lo)
                 both = self.bodies[i].contains(pts) & self.bodies[j].contains(pts)

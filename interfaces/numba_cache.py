@@ -98,6 +98,17 @@ def _install_locator() -> bool:
     return True
 
 
+def cache_is_cold(package_dir: str | Path) -> bool:
+    """True when no compiled kernel of the package is cached yet (first run of an
+    installation, or sources changed): the next run compiles for minutes."""
+    package_dir = os.path.abspath(package_dir)
+    cache = _CLAIMED.get(package_dir + os.sep, Path(package_dir) / "__pycache__")
+    try:
+        return not any(Path(cache).glob("*.nbi"))
+    except OSError:
+        return False
+
+
 def _claimed_dir(py_file: str) -> Path | None:
     path = os.path.abspath(py_file)
     for prefix, target in _CLAIMED.items():

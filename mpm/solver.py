@@ -14,11 +14,13 @@ interface energy) for half an estimated fundamental period, or at ``max_time``.
 from __future__ import annotations
 
 import math
+import os
 import time
 
 import numpy as np
 
 from interfaces.errors import CaseError, SolverError
+from interfaces.numba_cache import cache_is_cold
 from interfaces.result import Result
 
 from . import kernels as K
@@ -29,7 +31,7 @@ from .grid import Grid, NodalFields
 from .measure import interface_profile, line_profiles, stiffness_quantities
 from .options import merge
 from .particles import apply_tractions, generate
-from .progress import ProgressBar
+from .progress import ProgressBar, compile_notice
 from .rigid import with_rigid_conditions
 from .shape import SHAPE_CODES
 from .vtk import write_vtk_series
@@ -217,6 +219,8 @@ def solve(case, **options) -> Result:
     t_start = time.perf_counter()
     opts = merge(case, options)
     model = Model(case, opts)
+    if opts["progress"] is not False:
+        compile_notice(cache_is_cold(os.path.dirname(os.path.abspath(__file__))))
     t_setup = time.perf_counter() - t_start
     run = _Runner(model)
     t0 = time.perf_counter()

@@ -54,6 +54,9 @@ def _named(fn: Callable) -> Callable:
     def wrapper(**params):
         try:
             out = fn(**params)
+        except TypeError as e:   # a table or list where a number or a name belongs
+            raise CaseError(f"analytic: a parameter has the wrong type ({e}); parameters: "
+                            f"{', '.join(f'{k} = {v!r}' for k, v in params.items() if not isinstance(v, (int, float, str)))}") from None
         except (OverflowError, ZeroDivisionError, FloatingPointError) as e:
             raise CaseError(f"analytic: the closed form overflows for these parameters ({e}); "
                             "check the magnitudes of the analytic.* lengths and moduli (mm, MPa)") from None
@@ -246,9 +249,9 @@ def _wave(params: dict[str, Any]) -> tuple[float, float, float, float, dict[str,
         Z2 = Z1
     if not isinstance(p["nonlinear"], (bool, np.bool_)):
         raise CaseError(f"analytic.nonlinear must be true or false, got {p['nonlinear']!r}")
-    if p["pulse"] not in ("tensile", "compressive"):
+    if not isinstance(p["pulse"], str) or p["pulse"] not in ("tensile", "compressive"):
         raise CaseError(f"analytic.pulse must be 'tensile' or 'compressive', got {p['pulse']!r}")
-    if p["measure"] not in _WAVE_MEASURES:
+    if not isinstance(p["measure"], str) or p["measure"] not in _WAVE_MEASURES:
         raise CaseError(f"analytic.measure must be one of {', '.join(_WAVE_MEASURES)}, got {p['measure']!r}")
     Dn = interface_stiffness("Dn", p["Dn"])
     if p["nonlinear"] and p["pulse"] == "compressive":

@@ -28,7 +28,7 @@ def solve(case, *, profiles: bool = True, **overrides) -> Result:
                         f"(case.analytic is empty); available models: {', '.join(sorted(MODELS))}")
     params = {k: v for k, v in dict(spec).items() if k != "model"}
     name = spec.get("model")
-    if name not in MODELS:
+    if not isinstance(name, str) or name not in MODELS:
         raise CaseError(f"analytic.model must be one of {', '.join(sorted(MODELS))}, got {name!r}")
     _check_interface_parameters(case, params)
     params.update(overrides)

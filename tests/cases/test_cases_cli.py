@@ -1,5 +1,6 @@
 """The imperfect command line, comparisons and sweeps (analytic method: fast)."""
 import json
+import re
 import math
 
 import pytest
@@ -128,3 +129,14 @@ def test_sweep_on_dask_local_cluster_matches_process_pool():
         a = sweep("dcb", "Dn", [0.1, 1.0], methods="analytic", dask_address=cluster.scheduler_address)
     b = sweep("dcb", "Dn", [0.1, 1.0], methods="analytic", workers=2)
     assert [p["analytic"]["quantities"] for p in a.points] == [p["analytic"]["quantities"] for p in b.points]
+
+
+def test_show_params_lists_set_parameters_with_units(capsys):
+    assert main(["show", "two_layer", "--params"]) == 0
+    out = capsys.readouterr().out
+    assert re.search(r"^Dt\s+5\.0\s+MPa/mm$", out, flags=re.M)
+    assert re.search(r"^mpm_cell\s+0\.25\s+mm$", out, flags=re.M)
+    assert "cheap settings: --set fem_h=1.0 --set mpm_cell=1.0" in out
+    for name in cases.names():              # every case's parameters have a unit entry
+        assert main(["show", name, "--params"]) == 0
+    capsys.readouterr()

@@ -95,6 +95,7 @@ def test_rigid_bodies_reject_tractions_and_need_a_deformable_body():
     tension = BoundaryCondition("traction", "base", "ymin", ("y",), (-1.0,))
     with pytest.raises(CaseError, match="rigid"):
         mpm.solve(_case(LinearInterface(100.0, 0.0), base_bcs=[tension]), progress=False)
+    lift = BoundaryCondition("displacement", "block", "ymax", ("y",), (0.01,))
     with pytest.raises(CaseError, match="deformable"):
-        mpm.solve(_case(LinearInterface(math.inf, math.inf)), rigid_bodies=["base", "block"],
-                  progress=False)
+        mpm.solve(_case(LinearInterface(math.inf, math.inf), block_bcs=[lift]),
+                  rigid_bodies=["base", "block"], progress=False)
