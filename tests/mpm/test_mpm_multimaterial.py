@@ -432,6 +432,41 @@ def test_three_material_interface_forces_balance():
     np.testing.assert_allclose(s["force"].sum(axis=1), 0.0, atol=1e-13)
 
 
+@pytest.mark.parametrize("area_correction", [False, True])
+def test_three_material_interface_energy_closed_form(area_correction):
+    """000 Sec 2.6: at a node of three materials each material a meets the lump of the
+    others (mass-weighted displacement, Eq 11) with the law of its largest-volume partner;
+    the node's energy is half the sum of the three spring energies (each interface seen
+    from both sides), 1/2 sum_a 1/2 (Dn (j_a.n)^2 + Dt |j_a,t|^2) A_a."""
+    laws = {(0, 1): (5.0, 3.0), (1, 2): (4.0, 2.0), (0, 2): (1.0, 1.5)}
+    case = make_case(3, [(a, b, LinearInterface(*D)) for (a, b), D in laws.items()])
+    n = np.array([0.6, 0.8])
+    tables = mm.build_pair_tables(case, {"normal": "SN", "normal_vector": n.tolist(),
+                                         "force_limiting": False, "area_correction": area_correction})
+    s = nodal(1, 3, 2)
+    s["force"][:] = 0.0
+    s["momentum"][:] = 0.0
+    omega = np.array([0.5, 0.3, 0.2])            # node volume shares: partner by volume
+    s["volume"][0] = omega
+    s["mass"][0] = [1.0, 2.5, 0.7]
+    s["displacement"][0] = [[0.010, -0.004], [-0.003, 0.006], [0.007, 0.002]]
+    U = interface(s, tables)
+    u, m = s["displacement"][0], s["mass"][0]
+    partner = {0: 1, 1: 0, 2: 0}
+    expected = 0.0
+    for a in range(3):
+        others = [c for c in range(3) if c != a]
+        x_b = sum(m[c] * u[c] for c in others) / sum(m[c] for c in others)
+        j = u[a] - x_b
+        jn = j @ n
+        jt = j - jn * n
+        Dn, Dt = laws[tuple(sorted((a, partner[a])))]
+        om_b = sum(omega[c] for c in others)
+        area = math.sqrt(2.0 * omega.sum() * min(omega[a], om_b)) if area_correction else omega.sum()
+        expected += 0.5 * (Dn * jn ** 2 + Dt * (jt @ jt)) * area
+    assert U == pytest.approx(0.5 * expected, rel=1e-12)
+
+
 def test_zone_law_overrides_pair_law():
     """002 Fig 6: nodes inside a zone use the zone's law for that pair."""
     zone = SimpleNamespace(contains=lambda p: np.asarray(p)[:, 1] > 0.5)
