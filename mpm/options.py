@@ -8,6 +8,7 @@ import numpy as np
 from interfaces.errors import CaseError, check_number
 
 from .extrapolation import NODAL_DISPLACEMENT_CODES
+from .multimaterial import DEFAULT_OPTIONS as MULTIMATERIAL
 from .shape import SHAPE_CODES
 
 #: core options (the multimaterial options of mpm.multimaterial.DEFAULT_OPTIONS are
@@ -42,6 +43,10 @@ def merge(case, overrides: dict) -> dict:
     """Defaults <- case.discretization['mpm'] <- keyword overrides, then validated."""
     opts = dict(DEFAULTS)
     opts.update(case.options_for("mpm", **overrides))
+    unknown = sorted(set(opts) - set(DEFAULTS) - set(MULTIMATERIAL))
+    if unknown:
+        raise CaseError(f"mpm option {unknown[0]!r} is unknown; options: "
+                        f"{', '.join(sorted(set(DEFAULTS) | set(MULTIMATERIAL)))}")
     D = case.dimension
     if opts["cell"] is None:
         raise CaseError("discretization.mpm.cell (mm) is required: pass cell=... to mpm.solve "

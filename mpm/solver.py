@@ -217,6 +217,9 @@ def solve(case, **options) -> Result:
     interface_energy, kinetic_energy, external_work, dissipated_energy.
     """
     t_start = time.perf_counter()
+    reason = supports(case)
+    if reason is not None:
+        raise CaseError(f"mpm: {reason}")
     opts = merge(case, options)
     model = Model(case, opts)
     if opts["progress"] is not False:

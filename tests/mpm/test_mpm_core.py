@@ -247,3 +247,9 @@ def test_rotated_side_load_is_statically_equivalent_to_the_traction(angle, tract
     ref = (mid - start)[0] * (t * L * T)[1] - (mid - start)[1] * (t * L * T)[0]
     assert moment == pytest.approx(ref, rel=1e-10, abs=1e-12 * L * L * T)
     assert np.all(np.linalg.norm(F, axis=1) > 0.0)
+
+
+def test_misspelled_option_is_refused_listing_the_valid_ones():
+    """--option mpm.force_limting=false used to run silently with force limiting on."""
+    with pytest.raises(CaseError, match=r"mpm option 'force_limting' is unknown; options: .*force_limiting"):
+        mpm.solve(_block_case(), cell=0.5, force_limting=False, progress=False)
