@@ -63,10 +63,17 @@ def bulk_stiffness(basis: CellBasis, element_body: np.ndarray, moduli: list[np.n
         Bw = B * weight[e][:, None, None, :]
         ec = B.shape[0]
         data[e] = np.matmul(Bw.reshape(ec, nloc, -1), CB.reshape(ec, nloc, -1).transpose(0, 2, 1))
-    dofs = basis.element_dofs.T                                          # (ne, nloc)
-    rows = np.repeat(dofs, nloc, axis=1).ravel()
-    cols = np.tile(dofs, (1, nloc)).ravel()
-    return sp.coo_matrix((data.ravel(), (rows, cols)), shape=(basis.N, basis.N)).tocsr()
+    return _element_matrices_csr(data, basis.element_dofs.T, basis.N)
+
+
+def _element_matrices_csr(data: np.ndarray, dofs: np.ndarray, n: int) -> sp.csr_matrix:
+    """Sum element matrices ``data`` (ne, k, k) on their ``dofs`` (ne, k) into an (n, n) csr
+    matrix; 32-bit indices where they fit (half the memory traffic of the coo -> csr sort)."""
+    itype = np.int32 if n < 2**31 - 1 and data.size < 2**31 - 1 else np.int64
+    dofs = np.ascontiguousarray(dofs, dtype=itype)
+    rows = np.broadcast_to(dofs[:, :, None], data.shape).ravel()
+    cols = np.broadcast_to(dofs[:, None, :], data.shape).ravel()
+    return sp.coo_matrix((data.ravel(), (rows, cols)), shape=(n, n)).tocsr()
 
 
 def facet_load(mesh, element, facets: np.ndarray, traction: np.ndarray, thickness: float,

@@ -33,13 +33,14 @@ import time
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
 from interfaces.case import InterfacePair
 from interfaces.errors import CaseError, SolverError
 from interfaces.laws import LinearInterface
 from interfaces.result import Result
+from interfaces.sparse import KINDS as SOLVER_KINDS
+from interfaces.sparse import DirectSolver, SingularMatrixError
 
 from .assembly import bulk_stiffness, jump_operator, jump_stiffness
 from .boundary import apply_boundary_conditions, pin_rigid_modes, rigid_modes
@@ -61,6 +62,7 @@ OPTIONS = {
     "pin_rigid_modes": "fix the fewest DOFs that remove unrestrained rigid motion (default True)",
     "fields": "store vertex fields and cells (default True)",
     "max_contact_iterations": "active-set iterations for bilinear normal laws (default 50)",
+    "solver": "sparse direct solver: auto (PARDISO when it loads, else SuperLU; default), pardiso or superlu",
 }
 
 
@@ -85,6 +87,9 @@ def _options(case, options: dict) -> dict:
            "pin_rigid_modes": bool(opts.get("pin_rigid_modes", True)),
            "fields": bool(opts.get("fields", True)),
            "max_contact_iterations": int(opts.get("max_contact_iterations", 50))}
+    out["solver"] = opts.get("solver", "auto")
+    if out["solver"] not in SOLVER_KINDS:
+        raise CaseError(f"fem option solver must be one of {', '.join(SOLVER_KINDS)}, got {out['solver']!r}")
     if out["line_points"] < 2 or out["jump_points"] < 1:
         raise CaseError("fem options line_points must be >= 2 and jump_points >= 1")
     return out
@@ -139,8 +144,12 @@ def solve(case, **options) -> Result:
     # (002 Sec 3.1: "an iterative FEA procedure could prevent interpenetration")
     bilinear = any(el.bilinear for el in ielems)
     history = []
+    try:
+        linear_solver = DirectSolver(opts["solver"], ordering="minimum_degree")
+    except ValueError as e:         # 'pardiso' asked for but MKL missing
+        raise CaseError(f"fem option solver: {e}") from None
     for iteration in range(opts["max_contact_iterations"] if bilinear else 1):
-        sol = _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings)
+        sol = _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings, linear_solver)
         if not bilinear:
             break
         changed = sum(_update_branches(el, sol) for el in ielems if el.bilinear)
@@ -201,7 +210,7 @@ def solve(case, **options) -> Result:
         "interface_node_pairs": int(len(pairs.a)), "perfect_normal_nodes": int(pairs.perfect_n.sum()),
         "perfect_tangential_nodes": int(pairs.perfect_t.sum()), "prescribed_dofs": int(len(presc_d)),
         "pinned_dofs": [int(d) for d in pins], "backward_error": sol["backward_error"],
-        "negative_pivots": sol["negative_pivots"],
+        "negative_pivots": sol["negative_pivots"], "solver": linear_solver.name,
         "stress_components": ["rr", "zz", "tt", "rz"] if disc.axisymmetric else ["xx", "yy", "xy"],
         "warnings": warnings,
     }
@@ -212,9 +221,11 @@ def solve(case, **options) -> Result:
                   profiles=profiles, timings=timings, diagnostics=diagnostics)
 
 
-def _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings) -> dict:
+def _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings, linear_solver) -> dict:
     """One linear solve with the elements' current Dn, Dt: interface operators, exact
-    elimination (fem.constraints), SuperLU, nodal jumps and recovered tractions."""
+    elimination (fem.constraints), the sparse direct solve, nodal jumps and recovered
+    tractions. ``linear_solver`` (``interfaces.sparse.DirectSolver``) is kept across the
+    active-set iterations, so PARDISO reuses its symbolic analysis."""
     t0 = time.perf_counter()
     pairs, jumps, K_jump, M_jump = _interface_operators(disc, ielems)
     elim = build_elimination(disc.ndof, pairs, prescribed=prescribed, values=values,
@@ -223,7 +234,7 @@ def _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings) -> di
     timings["constraints"] += time.perf_counter() - t0
     t0 = time.perf_counter()
     negative_D = any(np.any(el.finite_Dn < 0) or np.any(el.finite_Dt < 0) for el in ielems)
-    q, backward_error, negative_pivots = _solve_symmetric(Kr, fr, allow_indefinite=negative_D)
+    q, backward_error, negative_pivots = _solve_symmetric(Kr, fr, negative_D, linear_solver)
     u = elim.expand(q)
     G, h = elim.jump_map(jumps)
     J = G @ q + h                   # nodal jumps (normal, tangential) u_b - u_a, without cancellation
@@ -278,27 +289,28 @@ def _interface_operators(disc, ielems):
     return pairs, jumps, K_jump.tocsr(), M_jump.tocsr()
 
 
-def _solve_symmetric(Kr: sp.csr_matrix, fr: np.ndarray, allow_indefinite: bool) -> tuple[np.ndarray, float, int]:
-    """Sparse direct solve (SuperLU, symmetric mode, minimum degree on A^T + A: ~20x faster
-    than the default ordering here) with one step of iterative refinement. Returns the
-    solution, the componentwise backward error and the number of negative pivots (-1 if
-    SuperLU pivoted off the diagonal). Negative interface parameters (002 Eq 52) make the
-    equilibrium a saddle point (``allow_indefinite``)."""
+def _solve_symmetric(Kr: sp.csr_matrix, fr: np.ndarray, allow_indefinite: bool,
+                     linear_solver: DirectSolver) -> tuple[np.ndarray, float, int]:
+    """Sparse direct solve (``interfaces.sparse``: PARDISO LDL^T, or SuperLU in symmetric
+    mode) with one step of iterative refinement. Returns the solution, the componentwise
+    backward error and the number of negative pivots (-1 if SuperLU pivoted off the
+    diagonal). Negative interface parameters (002 Eq 52) make the equilibrium a saddle
+    point (``allow_indefinite``); otherwise a negative pivot means a material error."""
     if Kr.shape[0] == 0:
         return np.zeros(0), 0.0, 0
     try:
-        lu = spla.splu(Kr.tocsc(), permc_spec="MMD_AT_PLUS_A",
-                       options={"SymmetricMode": True, "DiagPivotThresh": 0.01})
-    except RuntimeError as e:  # SuperLU: exactly singular
+        linear_solver.factorize(Kr)
+    except SingularMatrixError as e:
         raise SolverError(f"the stiffness matrix is singular ({e}): a body or part of it can move "
                           "freely; add supports or give debonded interfaces some stiffness") from None
-    # with symmetric pivoting the pivots carry the inertia of Kr (Sylvester's law)
-    negative_pivots = int(np.sum(lu.U.diagonal() < 0)) if np.all(lu.perm_r == lu.perm_c) else -1
+    # symmetric pivoting keeps the inertia of Kr in the pivots (Sylvester's law)
+    negative_pivots = linear_solver.negative_pivots()
     if negative_pivots > 0 and not allow_indefinite:
         raise SolverError(f"the stiffness matrix has {negative_pivots} negative pivots although all interface "
-                          "parameters are >= 0: check the material constants (positive definite moduli)")
-    q = lu.solve(fr)
-    q = q + lu.solve(fr - Kr @ q)
+                          "parameters are >= 0: check the material constants (positive definite moduli), "
+                          "or the structure can move freely (add supports)")
+    q = linear_solver.solve(fr)
+    q = q + linear_solver.solve(fr - Kr @ q)
     res = _backward_error(Kr, q, fr)
     if not np.all(np.isfinite(q)) or res > 1e-8:
         raise SolverError(f"linear solve failed (componentwise backward error {res:.2e}): the structure is "
@@ -318,8 +330,10 @@ def _backward_error(A, x, b) -> float:
     independent of the scaling of rows, so stiff interface unknowns do not distort it."""
     if A.shape[0] == 0:
         return 0.0
+    A = sp.csr_matrix(A)
     r = np.abs(b - A @ x)
-    denom = abs(A) @ np.abs(x) + np.abs(b)
+    absA = sp.csr_matrix((np.abs(A.data), A.indices, A.indptr), shape=A.shape)  # duplicates sum the same
+    denom = absA @ np.abs(x) + np.abs(b)
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(denom > 0, r / denom, np.where(r > 0, np.inf, 0.0))
     return float(ratio.max())

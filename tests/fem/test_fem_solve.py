@@ -255,6 +255,8 @@ def test_result_outputs_profiles_fields_and_vtk(tmp_path):
 def test_bad_input_is_rejected_with_clear_messages():
     case = dls(Dt=10.0)
     with pytest.raises(CaseError, match="unknown"):
+        fem.solve(case, h=0.3, preconditioner="ilu")
+    with pytest.raises(CaseError, match="solver must be one of auto, pardiso, superlu"):
         fem.solve(case, h=0.3, solver="cg")
     with pytest.raises(CaseError, match="order"):
         fem.solve(case, h=0.3, order=3)
