@@ -6,7 +6,7 @@ from typing import Callable
 
 from interfaces import Case, CaseError
 
-from . import library
+from . import curved, library
 
 CASES: dict[str, Callable[..., Case]] = {
     "dls": library.dls,
@@ -16,6 +16,9 @@ CASES: dict[str, Callable[..., Case]] = {
     "particulate": library.particulate,
     "bimaterial_square": library.bimaterial_square,
     "cuboid": library.cuboid,
+    "composite_spheres": curved.composite_spheres,
+    "composite_cylinders": curved.composite_cylinders,
+    "inclusion": curved.inclusion,
 }
 
 

@@ -40,4 +40,22 @@ def stiffness(disc, meas: dict, f_int: np.ndarray, u: np.ndarray, U_total: float
             "stiffness_energy": P * P / (2.0 * U_total) if U_total > 0 else math.nan}
 
 
-__all__ = ["side_average", "stiffness"]
+def bulk_modulus(meas: dict, U_total: float) -> float:
+    """Bulk modulus from the stored energy of a uniform dilatation u = eps0 x on the outer
+    boundary (000 Eq 34-35): U = (d^2/2) K eps0^2 V, i.e. K = 2 U / (9 V eps0^2) for a
+    sphere (``dimension`` 3, default) and the transverse plane-strain k = U / (2 V eps0^2)
+    for a cylinder (``dimension`` 2). ``U_total`` = bulk + interface energy of the volume
+    ``V`` (whole ring when axisymmetric)."""
+    try:
+        eps0, volume = float(meas["strain"]), float(meas["volume"])
+        d = int(meas.get("dimension", 3))
+    except (KeyError, TypeError, ValueError):
+        raise CaseError("measurements.bulk_modulus needs strain and volume (numbers) and an optional "
+                        f"dimension 2 or 3, got {meas!r}") from None
+    if d not in (2, 3) or not eps0 != 0 or not volume > 0:
+        raise CaseError(f"measurements.bulk_modulus: dimension must be 2 or 3, strain non-zero and volume > 0, "
+                        f"got {meas!r}")
+    return 2.0 * U_total / (d * d * volume * eps0 * eps0)
+
+
+__all__ = ["side_average", "stiffness", "bulk_modulus"]

@@ -10,7 +10,7 @@ meshes are conforming along shared edges. Quadrilaterals by default; triangles (
 split along one diagonal) when a polygon has 45-degree edges (003 diagonal interface).
 Bodies whose boundaries do not follow the grid lines (circles, arbitrary polygons) are
 rejected (a body boundary crossing a cell is detected) rather than meshed with staircase
-boundaries.
+boundaries; ``fem.gmsh_mesh`` meshes those.
 """
 from __future__ import annotations
 
@@ -185,15 +185,35 @@ def build_mesh(case, element_size) -> BodyMesh:
                     origin=origin, rotation=R, size=size)
 
 
+def grid_compatible(case) -> bool:
+    """True when every body, hole and clipping shape is a rectangle or polygon whose edges the
+    structured mesher follows exactly (axis-aligned in the common frame, or 45 degrees)."""
+    origin, R = _frame(case)
+    try:
+        outlines = [_outline(s, origin, R, "shape") for b in case.bodies
+                    for s in [b.shape, *b.holes] + ([b.within] if b.within is not None else [])]
+        allpts = np.concatenate(outlines)
+        _diagonal(outlines, 1e-9 * float(np.hypot(*np.ptp(allpts, axis=0))))
+    except CaseError:
+        return False
+    return True
+
+
 def default_element_size(case) -> float:
-    """A quarter of the thinnest body dimension (in the common frame)."""
+    """A quarter of the thinnest body dimension (in the common frame; curved shapes: of
+    their bounding boxes)."""
     origin, R = _frame(case)
     dims = []
-    for i, b in enumerate(case.bodies):
-        loc = _outline(b.shape, origin, R, f"bodies[{i}].shape")
-        dims.append(float(np.min(loc.max(axis=0) - loc.min(axis=0))))
+    for b in case.bodies:
+        if getattr(b.shape, "kind", "") in ("rectangle", "polygon"):
+            loc = _outline(b.shape, origin, R, "shape")
+            extent = loc.max(axis=0) - loc.min(axis=0)
+        else:
+            lo, hi = b.bounds()
+            extent = hi - lo
+        dims.append(float(np.min(extent)))
     return min(dims) / 4.0
 
 
-__all__ = ["BodyMesh", "build_mesh", "default_element_size", "element_sizes"]
+__all__ = ["BodyMesh", "build_mesh", "default_element_size", "element_sizes", "grid_compatible"]
 

@@ -1,7 +1,8 @@
 """``fem.solve(case)``: static linear FEM with imperfect interface elements (002 Sec 2).
 
 Bodies are meshed on one structured grid (``fem.mesh``: quads, or triangles for 45-degree
-polygon edges; 9-node ``ElementQuad2`` / 6-node ``ElementTriP2`` by default, linear
+polygon edges), or by gmsh into curved 6-node triangles where shapes are curved
+(``fem.gmsh_mesh``; 9-node ``ElementQuad2`` / 6-node ``ElementTriP2`` by default, linear
 with ``order=1``), nodes duplicated along interfaces and joined by the 2n-node interface
 elements of 002 Eq 15-19 (6-node with quadratic, 4-node with linear bulk elements),
 assembled on jump unknowns in the interface frame. Finite Dn, Dt enter as stiffness;
@@ -13,6 +14,7 @@ Reported (002 Sec 3.1):
 * ``stiffness_energy``: energy method k = P^2 / (2 U) (002 Eq 45), U = bulk strain
   energy + interface energy (002 Eq 15);
 * ``strain_energy`` (bulk), ``interface_energy``, ``load`` (P, N);
+* ``bulk_modulus`` where the case measures it (000 Eq 34-35: K = 2 U / (d^2 V eps0^2));
 * profiles ``interface_jump`` (first interface) and ``interface_jump[a|b]`` per pair
   (``s, x, y, jump_n, jump_t, traction_n, traction_t, Dn, Dt, weight``), one profile per
   case line keyed by its name (``s, x, y, ux, uy``); fields at mesh vertices for VTK
@@ -47,6 +49,7 @@ from .boundary import apply_boundary_conditions, pin_rigid_modes, rigid_modes
 from .constraints import build_elimination
 from .discretization import discretize
 from .interface_mesh import check_one_direction_straight, find_interface_elements, node_pairs, pair_index
+from .measure import bulk_modulus as measure_bulk_modulus
 from .measure import stiffness as measure_stiffness
 from .mesh import default_element_size
 from .post import interface_profile, line_profile, recover_tractions, vertex_stress
@@ -62,6 +65,8 @@ OPTIONS = {
     "pin_rigid_modes": "fix the fewest DOFs that remove unrestrained rigid motion (default True)",
     "fields": "store vertex fields and cells (default True)",
     "max_contact_iterations": "active-set iterations for bilinear normal laws (default 50)",
+    "mesher": "auto (gmsh for curved shapes or off-grid polygon edges, else structured; default), structured or gmsh",
+    "curved": "gmsh meshes: quadratic edges follow the curves (default True); False: straight-sided triangles",
     "solver": "sparse direct solver: auto (PARDISO when it loads, else SuperLU; default), pardiso or superlu",
 }
 
@@ -88,6 +93,10 @@ def _options(case, options: dict) -> dict:
            "fields": bool(opts.get("fields", True)),
            "max_contact_iterations": int(opts.get("max_contact_iterations", 50))}
     out["solver"] = opts.get("solver", "auto")
+    out["mesher"] = opts.get("mesher", "auto")
+    out["curved"] = opts.get("curved", True)
+    if not isinstance(out["curved"], (bool, np.bool_)):
+        raise CaseError(f"fem option curved must be true or false, got {out['curved']!r}")
     if out["solver"] not in SOLVER_KINDS:
         raise CaseError(f"fem option solver must be one of {', '.join(SOLVER_KINDS)}, got {out['solver']!r}")
     if out["line_points"] < 2 or out["jump_points"] < 1:
@@ -120,7 +129,8 @@ def solve(case, **options) -> Result:
     warnings: list[str] = []
 
     t0 = time.perf_counter()
-    disc = discretize(case, opts["element_size"], opts["order"], opts["intorder"], opts["max_dofs"])
+    disc = discretize(case, opts["element_size"], opts["order"], opts["intorder"], opts["max_dofs"],
+                      opts["mesher"], bool(opts["curved"]))
     timings["mesh"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -178,6 +188,8 @@ def solve(case, **options) -> Result:
     per_volume = (case.measurements.get("interface_energy") or {}).get("per_volume")
     if per_volume:      # 000 Fig 5: interfacial energy per unit specimen volume
         quantities["interface_energy_per_volume"] = U_int / float(per_volume)
+    if "bulk_modulus" in case.measurements:      # 000 Eq 34-35, composite spheres / cylinders
+        quantities["bulk_modulus"] = measure_bulk_modulus(case.measurements["bulk_modulus"], U_bulk + U_int)
     if meas:
         f_int = K_bulk @ u + sol["jumps"].T @ (sol["K_jump"] @ J)
         quantities.update(measure_stiffness(disc, meas, f_int, u, U_bulk + U_int))
@@ -194,7 +206,7 @@ def solve(case, **options) -> Result:
     if opts["fields"]:
         mat_names = list(case.materials)
         body_mat = np.array([mat_names.index(b.material) for b in case.bodies])
-        fields = {"position": disc.mesh.p.T.copy(),
+        fields = {"position": bm.p.T.copy(),
                   "displacement": u[disc.basis.nodal_dofs].T.copy(),
                   "stress": vertex_stress(disc.mesh, disc.element, u, bm.element_body, moduli, disc.axisymmetric),
                   "material": body_mat[bm.vertex_body],
