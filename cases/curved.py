@@ -107,10 +107,13 @@ def composite_cylinders(D: float = math.inf, radius: float = 0.7, volume_fractio
 
 def inclusion(D: float = 100.0, shape: str = "circle", a: float = 1.0, b: float = 0.5, angle: float = 0.0,
               width: float = 10.0, stress: float = 10.0, fem_h: float | None = None) -> Case:
-    """A glass inclusion (circle of radius ``a``, or ellipse with semi-axes a, b rotated by
-    ``angle`` degrees) with an imperfect interface Dn = Dt = D at the centre of a square polymer
-    plate of side ``width``, plane strain, uniaxial tension ``stress`` (MPa) on x = +width/2,
-    x = -width/2 held in x. Stiffness P/<u> (002 Eq 43, 45) and energies."""
+    """Circular or elliptical glass inclusion, imperfect interface, in a polymer plate under tension.
+
+    A circle of radius ``a``, or an ellipse with semi-axes a, b rotated by ``angle`` degrees,
+    with Dn = Dt = D at the centre of a square plate of side ``width``, plane strain,
+    uniaxial tension ``stress`` (MPa) on x = +width/2, x = -width/2 held in x. Stiffness
+    P/<u> (002 Eq 43, 45) and energies (no closed form: FEM convergence is the check).
+    """
     if shape not in ("circle", "ellipse"):
         raise CaseError(f"shape must be 'circle' or 'ellipse', got {shape!r}")
     a = check_number("a", a, low=0.0, low_open=True)
