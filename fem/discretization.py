@@ -12,6 +12,7 @@ one, which the interface code relies on (checked at construction).
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -67,12 +68,18 @@ class Discretization:
         return bf[on]
 
     def side_dofs(self, body_name: str, side: str) -> np.ndarray:
-        """DOFs (both components) located on a body's side."""
-        on = self.case.side_points_mask(body_name, side, self.basis.doflocs.T, self.tol)
+        """DOFs (both components) located on a body's side (sides lie on the mesh boundary:
+        every body owns its nodes, so only boundary DOFs are tested)."""
+        cand = self.boundary_dofs
         k = _body_index(self.case, body_name)
         if k is not None:
-            on &= self.dof_body == k
-        return np.flatnonzero(on)
+            cand = cand[self.dof_body[cand] == k]
+        return cand[self.case.side_points_mask(body_name, side, self.basis.doflocs[:, cand].T, self.tol)]
+
+    @functools.cached_property
+    def boundary_dofs(self) -> np.ndarray:
+        """Sorted DOFs on boundary facets (vertices and facet nodes)."""
+        return np.unique(self.basis.get_dofs(self.mesh.boundary_facets()).flatten())
 
 
 def _body_index(case, body_name: str):
