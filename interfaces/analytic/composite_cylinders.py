@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from interfaces.analytic._checks import CaseError, interface_stiffness, points, positive
+from interfaces.analytic.composite_spheres import modulus_from_inverse, series_inverse_modulus
 from interfaces.errors import check_number
 
 __all__ = ["CompositeCylinders", "composite_cylinders_bulk_modulus", "plane_strain_bulk_modulus"]
@@ -81,15 +82,12 @@ class CompositeCylinders:
     @property
     def inverse_effective_fibre_modulus(self) -> float:
         """1/k_e = 1/k_f + 2/(a Dn) (1/MPa): fibre and interface in series."""
-        if self.Dn == 0.0:
-            return math.inf
-        return 1.0 / self.k_f + (0.0 if math.isinf(self.Dn) else 2.0 / (self.a * self.Dn))
+        return series_inverse_modulus(self.k_f, 2.0, self.a, self.Dn)
 
     @property
     def effective_fibre_modulus(self) -> float:
         """k_e (MPa); 0 for a debonded fibre, inf at the rigid-interphase limit."""
-        s = self.inverse_effective_fibre_modulus
-        return 0.0 if math.isinf(s) else (math.inf if s == 0.0 else 1.0 / s)
+        return modulus_from_inverse(self.inverse_effective_fibre_modulus)
 
     @property
     def bulk_modulus(self) -> float:

@@ -76,6 +76,20 @@ def hashin_bulk_modulus(K_p: float, K_m: float, G_m: float, phi: float) -> float
     return K_m + phi * (K_p - K_m) / (1.0 + (1.0 - phi) * (K_p - K_m) / (K_m + 4.0 * G_m / 3.0))
 
 
+def series_inverse_modulus(K: float, d: float, a: float, Dn: float) -> float:
+    """1/K_e = 1/K + d/(a Dn) (1/MPa): an inclusion of radius a and modulus K in series with a
+    spring interface Dn (d = 3 for a sphere's bulk modulus, 2 for a cylinder's plane-strain
+    one); inf when debonded (Dn = 0), 1/K when perfect."""
+    if Dn == 0.0:
+        return math.inf
+    return 1.0 / K + (0.0 if math.isinf(Dn) else d / (a * Dn))
+
+
+def modulus_from_inverse(s: float) -> float:
+    """K_e from 1/K_e: 0 for a debonded inclusion (inf), inf at the rigid-interphase limit (0)."""
+    return 0.0 if math.isinf(s) else (math.inf if s == 0.0 else 1.0 / s)
+
+
 @dataclass(frozen=True)
 class CompositeSpheres:
     """One composite sphere: particle (K_p, radius a) in a matrix shell (K_m, G_m), phi = (a/b)^3,
@@ -107,15 +121,12 @@ class CompositeSpheres:
     @property
     def inverse_effective_particle_modulus(self) -> float:
         """1/K_e = 1/K_p + 3/(a Dn) (1/MPa): particle and interface in series."""
-        if self.Dn == 0.0:
-            return math.inf
-        return 1.0 / self.K_p + (0.0 if math.isinf(self.Dn) else 3.0 / (self.a * self.Dn))
+        return series_inverse_modulus(self.K_p, 3.0, self.a, self.Dn)
 
     @property
     def effective_particle_modulus(self) -> float:
         """K_e (MPa); 0 for a debonded particle, inf at the rigid-interphase limit."""
-        s = self.inverse_effective_particle_modulus
-        return 0.0 if math.isinf(s) else (math.inf if s == 0.0 else 1.0 / s)
+        return modulus_from_inverse(self.inverse_effective_particle_modulus)
 
     @property
     def bulk_modulus(self) -> float:

@@ -357,10 +357,14 @@ def composite_spheres_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     m, p = _csa(params)
     if m.phi == 0.0:
         raise CaseError("analytic.phi = 0 has no finite shell to plot; use phi > 0")
+    return _radial_profile(m, p)
+
+
+def _radial_profile(m, p: dict[str, Any]) -> dict[str, dict[str, np.ndarray]]:
+    """u_r and sigma_rr of a composite sphere or cylinder on r in [0, b], both sides of r = a."""
     n = _n_points(p["n_points"])
-    r = np.concatenate([np.linspace(0.0, m.a, n // 2), np.nextafter(m.a, np.inf) +
-                        np.linspace(0.0, m.b - m.a, n - n // 2)])
-    r = np.minimum(r, m.b)
+    r = np.minimum(np.concatenate([np.linspace(0.0, m.a, n // 2),
+                                   np.nextafter(m.a, np.inf) + np.linspace(0.0, m.b - m.a, n - n // 2)]), m.b)
     return {"radial": {"r": r, "u_r": m.radial_displacement(r, p["eps0"]),
                        "sigma_rr": m.radial_stress(r, p["eps0"])}}
 
@@ -405,10 +409,7 @@ def composite_cylinders_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     m, p = _cca(params)
     if m.phi == 0.0:
         raise CaseError("analytic.phi = 0 has no finite matrix cylinder to plot; use phi > 0")
-    n = _n_points(p["n_points"])
-    r = np.minimum(np.concatenate([np.linspace(0.0, m.a, n // 2),
-                                   np.nextafter(m.a, np.inf) + np.linspace(0.0, m.b - m.a, n - n // 2)]), m.b)
-    return {"radial": {"r": r, "u_r": m.radial_displacement(r, p["eps0"]), "sigma_rr": m.radial_stress(r, p["eps0"])}}
+    return _radial_profile(m, p)
 
 
 _PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA) | set(_CCA)
