@@ -23,7 +23,7 @@ from skfem import (CellBasis, ElementQuad1, ElementQuad2, ElementTriP1, ElementT
 from interfaces.errors import CaseError
 
 from .gmsh_mesh import build_gmsh_mesh, needs_gmsh
-from .mesh import BodyMesh, build_mesh, element_sizes, grid_compatible
+from .mesh import BodyMesh, build_mesh, check_size, element_sizes, grid_compatible
 
 MESHERS = ("auto", "structured", "gmsh")
 
@@ -108,11 +108,8 @@ def discretize(case, element_size, order: int, intorder: int, max_dofs: float, m
 
 
 def _structured(case, element_size, order: int, max_dofs: float):
-    bm = build_mesh(case, element_size)
-    estimate = bm.p.shape[1] * (8 if order == 2 else 2)
-    if estimate > max_dofs:
-        raise CaseError(f"element_size = {element_size} gives about {estimate:.3g} DOFs, above max_dofs = "
-                        f"{max_dofs:.3g}: use a larger element_size (h) or raise max_dofs")
+    bm = build_mesh(case, element_size, grid_limit=max(2.0 * max_dofs, 1e6))
+    check_size(bm.p.shape[1] * (8 if order == 2 else 2), element_size, max_dofs)
     if bm.cell_type == "quad":
         return bm, MeshQuad(bm.p, bm.t), ElementVector(ElementQuad2() if order == 2 else ElementQuad1())
     return bm, MeshTri(bm.p, bm.t), ElementVector(ElementTriP2() if order == 2 else ElementTriP1())

@@ -24,6 +24,8 @@ import numpy as np
 
 from interfaces.errors import CaseError
 
+from .mesh import check_size
+
 CURVED_KINDS = ("circle", "ellipse")
 DOFS_PER_TRIANGLE = 4.2       # P2 vector DOFs per triangle (2 per node, ~2.1 nodes per triangle)
 CURVATURE_ELEMENTS = 8        # at least this many elements around a full circle or ellipse
@@ -96,12 +98,9 @@ def _body_surfaces(occ, body, index: int) -> list[tuple[int, int]]:
     return s
 
 
-def _check_size(case, areas: np.ndarray, h: float, max_dofs: float) -> None:
-    """Refuse before meshing when the estimated DOFs exceed ``max_dofs``."""
-    estimate = DOFS_PER_TRIANGLE * float(areas.sum()) / (math.sqrt(3.0) / 4.0 * h * h)
-    if estimate > max_dofs:
-        raise CaseError(f"element_size = {h:g} mm gives about {estimate:.3g} DOFs on the curved bodies, above "
-                        f"max_dofs = {max_dofs:.3g}: use a larger element_size (h) or raise max_dofs")
+def _check_size(areas: np.ndarray, h: float, max_dofs: float) -> None:
+    """Refuse before meshing when the DOFs estimated from the areas are too many (``fem.mesh.check_size``)."""
+    check_size(DOFS_PER_TRIANGLE * float(areas.sum()) / (math.sqrt(3.0) / 4.0 * h * h), f"{h:g}", max_dofs)
 
 
 def build_gmsh_mesh(case, h: float, max_dofs: float) -> GmshMesh:
@@ -148,7 +147,7 @@ def _mesh(gmsh, case, h: float, max_dofs: float) -> GmshMesh:
     for i, body in enumerate(case.bodies):
         if i not in owner.values():
             raise CaseError(f"bodies[{i}] ({body.name!r}) is covered by earlier bodies: it gets no elements")
-    _check_size(case, np.array([occ.getMass(2, tag) for tag in owner]), h, max_dofs)
+    _check_size(np.array([occ.getMass(2, tag) for tag in owner]), h, max_dofs)
     for key, value in (("Mesh.MeshSizeMax", h), ("Mesh.MeshSizeMin", 0.0), ("Mesh.ElementOrder", 2),
                        ("Mesh.MeshSizeFromCurvature", CURVATURE_ELEMENTS), ("Mesh.Algorithm", 6),
                        ("Mesh.HighOrderOptimize", 0), ("Mesh.SecondOrderLinear", 0)):

@@ -104,7 +104,7 @@ def test_meshing_failures_are_one_line_case_errors(monkeypatch):
     apart = _two_bodies(Circle(5.0, 0.0, 0.5), plate, [])
     with pytest.raises(CaseError, match=r"interfaces\[0\]: bodies 'core' and 'plate' share no boundary"):
         fem.solve(apart, h=0.5)
-    with pytest.raises(CaseError, match=r"element_size = 0.0001 mm gives about .* DOFs .* max_dofs"):
+    with pytest.raises(CaseError, match=r"element_size = 0.0001 mm gives about .* DOFs, above max_dofs"):
         fem.solve(_two_bodies(Circle(0, 0, 0.5), plate, [Circle(0, 0, 0.5)]), h=1e-4)
     covered = _two_bodies(Circle(0, 0, 0.5), Rectangle(-0.1, -0.1, 0.2, 0.2), [])
     with pytest.raises(CaseError, match=r"bodies\[1\] \('plate'\) is covered by earlier bodies"):
@@ -132,3 +132,14 @@ def test_structured_mesher_is_kept_where_exact():
         r = fem.solve(strip, h=0.25, mesher=mesher)
         assert r.diagnostics["cell_type"] == cell
         assert r.quantities["strain_energy"] == pytest.approx(exact, rel=1e-10)
+
+
+def test_huge_meshes_are_refused_before_allocation(monkeypatch):
+    import fem.mesh
+    with pytest.raises(CaseError, match=r"element_size = 1e-07 mm gives about .* DOFs"):
+        fem.solve(cases.build("dls", Dt=5.0), h=1e-7)                   # structured: the grid is never built
+    with pytest.raises(CaseError, match=r"element_size = 0.0001 mm gives about .* DOFs"):
+        fem.solve(cases.build("inclusion"), h=1e-4, max_dofs=1e12)       # gmsh: before meshing
+    monkeypatch.setattr(fem.mesh, "available_memory", lambda: 1e9)      # 1 GB left
+    with pytest.raises(CaseError, match=r"needing about .* GB, more than the 1 GB of memory available"):
+        fem.solve(cases.build("dls", Dt=5.0), h=0.03)
