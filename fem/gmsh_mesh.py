@@ -110,7 +110,7 @@ def build_gmsh_mesh(case, h: float, max_dofs: float) -> GmshMesh:
     gmsh = gmsh_module()
     own = not gmsh.isInitialized()
     if own:
-        gmsh.initialize(readConfigFiles=False)
+        gmsh.initialize(readConfigFiles=False, interruptible=False)   # no SIGINT handler: usable from threads
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.option.setNumber("General.NumThreads", 1)
     name = f"imperfect_{id(case)}"
