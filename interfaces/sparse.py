@@ -52,6 +52,19 @@ def _load_pardiso():
     return _PARDISO_CLASS[0]
 
 
+def _upper_triangle(A: sp.csr_matrix) -> sp.csr_matrix:
+    """The upper triangle (diagonal included) of a csr matrix, rows sorted, duplicates summed:
+    one mask over the stored entries (scipy's triu goes through coo and back, 3x slower)."""
+    A = A.copy() if not A.has_canonical_format else A
+    A.sum_duplicates()
+    n = A.shape[0]
+    rows = np.repeat(np.arange(n, dtype=A.indices.dtype), np.diff(A.indptr))
+    keep = A.indices >= rows
+    indptr = np.zeros(n + 1, dtype=A.indptr.dtype)
+    np.cumsum(np.bincount(rows[keep], minlength=n), out=indptr[1:])
+    return sp.csr_matrix((A.data[keep], A.indices[keep], indptr), shape=A.shape)
+
+
 class DirectSolver:
     """Factorise a sparse symmetric matrix once, solve many right-hand sides.
 
@@ -100,8 +113,7 @@ class DirectSolver:
         self.stats["factorizations"] += 1
 
     def _factorize_pardiso(self, A: sp.csr_matrix) -> None:
-        upper = sp.triu(A, format="csr")
-        upper.sort_indices()
+        upper = _upper_triangle(A)
         # PARDISO needs every diagonal entry stored, even a zero one
         missing = np.flatnonzero(upper.diagonal() == 0)
         if missing.size:
