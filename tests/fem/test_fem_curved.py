@@ -143,3 +143,29 @@ def test_huge_meshes_are_refused_before_allocation(monkeypatch):
     monkeypatch.setattr(fem.mesh, "available_memory", lambda: 1e9)      # 1 GB left
     with pytest.raises(CaseError, match=r"needing about .* GB, more than the 1 GB of memory available"):
         fem.solve(cases.build("dls", Dt=5.0), h=0.03)
+
+
+@pytest.mark.parametrize("analysis", ["plane_strain", "plane_stress"])
+def test_patch_test_on_a_rotated_plate_with_a_curved_perfect_interface(analysis):
+    """u = H X on the four sides of a plate rotated by 30 degrees, with an elliptical inclusion
+    of the same material bonded perfectly: curved isoparametric triangles and the exact ties
+    reproduce the uniform field (to round-off) and U = 1/2 eps : C : eps x area."""
+    m = IsotropicElastic(E=1000.0, nu=0.3)
+    plate = Rectangle(0.0, 0.0, 4.0, 3.0, angle=30.0)
+    centre = plate.to_global(np.array([[2.0, 1.5]]))[0]
+    core = Ellipse(centre[0], centre[1], 1.0, 0.6, angle=10.0)
+    H = np.array([[1e-3, 4e-4], [-2e-4, -5e-4]])
+    case = Case(name="patch", analysis=analysis, thickness=2.0, materials={"m": m},
+                bodies=[Body("core", core, "m"), Body("plate", plate, "m", holes=[core])],
+                interfaces=[InterfacePair("core", "plate", LinearInterface(math.inf, math.inf))],
+                boundary_conditions=[BoundaryCondition("deformation_gradient", "plate", s, ("x", "y"), tuple(H.ravel()))
+                                     for s in ("xmin", "xmax", "ymin", "ymax")])
+    r = fem.solve(case, h=0.4)
+    assert r.diagnostics["cell_type"] == "triangle"
+    x, u = r.fields["position"], r.fields["displacement"]
+    np.testing.assert_allclose(u, x @ H.T, atol=1e-14)
+    eps = 0.5 * (H + H.T)
+    ev = np.array([eps[0, 0], eps[1, 1], 2 * eps[0, 1]])
+    exact = 0.5 * ev @ m.stiffness(analysis) @ ev * 12.0 * 2.0
+    assert r.quantities["strain_energy"] == pytest.approx(exact, rel=1e-10)
+    assert np.abs(r.profiles["interface_jump"]["jump_n"]).max() < 1e-15
