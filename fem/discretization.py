@@ -44,6 +44,7 @@ class Discretization:
     axisymmetric: bool
     ring: float                   # 2 pi for axisymmetric (whole ring), else 1
     tol: float                    # geometric tolerance (mm)
+    mesher: str = "structured"    # or "gmsh (curved)", "gmsh (straight-sided)"
 
     @property
     def ndof(self) -> int:
@@ -93,8 +94,10 @@ def discretize(case, element_size, order: int, intorder: int, max_dofs: float, m
         raise CaseError(f"fem option mesher must be one of {', '.join(MESHERS)}, got {mesher!r}")
     if mesher == "gmsh" or (mesher == "auto" and (needs_gmsh(case) or not grid_compatible(case))):
         bm, mesh, element = _unstructured(case, element_size, order, max_dofs, curved)
+        used = "gmsh (curved)" if order == 2 and curved else "gmsh (straight-sided)"
     else:
         bm, mesh, element = _structured(case, element_size, order, max_dofs)
+        used = "structured"
     basis = CellBasis(mesh, element, intorder=intorder)
     for dofs in (basis.nodal_dofs, basis.facet_dofs):
         if dofs.size and not (np.all(dofs[0] % 2 == 0) and np.all(dofs[1] == dofs[0] + 1)):
@@ -104,7 +107,8 @@ def discretize(case, element_size, order: int, intorder: int, max_dofs: float, m
     axisym = case.analysis == "axisymmetric"
     return Discretization(case=case, body_mesh=bm, mesh=mesh, element=element, basis=basis, dof_body=dof_body,
                           order=order, intorder=intorder, thickness=1.0 if axisym else case.thickness,
-                          axisymmetric=axisym, ring=2.0 * math.pi if axisym else 1.0, tol=1e-9 * bm.size)
+                          axisymmetric=axisym, ring=2.0 * math.pi if axisym else 1.0, tol=1e-9 * bm.size,
+                          mesher=used)
 
 
 def _structured(case, element_size, order: int, max_dofs: float):

@@ -217,7 +217,7 @@ def solve(case, **options) -> Result:
 
     diagnostics = {
         "dofs": int(disc.ndof), "free_dofs": int(sol["free_dofs"]), "elements": int(disc.mesh.t.shape[1]),
-        "cell_type": bm.cell_type, "order": disc.order, "element_size": opts["element_size"],
+        "cell_type": bm.cell_type, "mesher": disc.mesher, "order": disc.order, "element_size": opts["element_size"],
         "interface_elements": {f"{el.a}|{el.b}": int(len(el.xy)) for el in ielems},
         "interface_node_pairs": int(len(pairs.a)), "perfect_normal_nodes": int(pairs.perfect_n.sum()),
         "perfect_tangential_nodes": int(pairs.perfect_t.sum()), "prescribed_dofs": int(len(presc_d)),
