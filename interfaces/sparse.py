@@ -55,8 +55,9 @@ def _load_pardiso():
 def _upper_triangle(A: sp.csr_matrix) -> sp.csr_matrix:
     """The upper triangle (diagonal included) of a csr matrix, rows sorted, duplicates summed:
     one mask over the stored entries (scipy's triu goes through coo and back, 3x slower)."""
-    A = A.copy() if not A.has_canonical_format else A
-    A.sum_duplicates()
+    if not A.has_canonical_format:       # sort a copy: callers may rely on their entry order
+        A = A.copy()
+        A.sum_duplicates()
     n = A.shape[0]
     rows = np.repeat(np.arange(n, dtype=A.indices.dtype), np.diff(A.indptr))
     keep = A.indices >= rows
