@@ -74,3 +74,14 @@ def test_bad_input_is_refused():
         fit("dls", "l", [5.0], [400.0], ["Dt"])
     with pytest.raises(SolverError, match="above the perfect-interface end"):
         fit("dls", "l", [5.0], [1e6], ["Dt"], noise=0.02)
+
+
+@pytest.mark.slow
+def test_least_squares_with_fem_in_the_loop(fem_stiffness):
+    rng = np.random.default_rng(3)
+    k = np.array(fem_stiffness) * (1.0 + 0.02 * rng.standard_normal(len(LS)))
+    r = fit("dls", "l", LS, k, ["Dt"], "fem", options={"h": 0.2}, noise=0.02)
+    lo, hi = r.ranges["Dt"]
+    assert lo <= DT <= hi
+    exact = fit("dls", "l", LS, fem_stiffness, ["Dt"], "fem", options={"h": 0.2})
+    assert exact.parameters["Dt"] == pytest.approx(DT, rel=1e-4)
