@@ -66,7 +66,7 @@ def composite_spheres(D: float = math.inf, radius: float = 0.7, volume_fraction:
     g, p = mats["glass"], mats["polymer"]
     return Case(
         name="composite_spheres", analysis="axisymmetric", thickness=1.0,
-        description=f"Composite sphere (000 Sec 3), a = {a:g} mm, phi = {phi:g}, Dn = Dt = {D} MPa/mm",
+        description=f"Composite sphere, a = {a:g} mm, phi = {phi:.4g}, D = {D:g} MPa/mm",
         materials=mats, bodies=_concentric(a, b, Rectangle(0.0, 0.0, b, b), "particle"),
         interfaces=[InterfacePair("particle", "matrix", LinearInterface(Dn=D, Dt=D))],
         boundary_conditions=_dilatation_bcs(strain),
@@ -94,7 +94,7 @@ def composite_cylinders(D: float = math.inf, radius: float = 0.7, volume_fractio
     bodies = _concentric(a, b, Rectangle(0.0, 0.0, b, b), "fibre")
     return Case(
         name="composite_cylinders", analysis="plane_strain", thickness=1.0,
-        description=f"Composite cylinder, plane strain, a = {a:g} mm, phi = {phi:g}, Dn = Dt = {D} MPa/mm",
+        description=f"Composite cylinder, a = {a:g} mm, phi = {phi:.4g}, D = {D:g} MPa/mm",
         materials=mats, bodies=bodies,
         interfaces=[InterfacePair("fibre", "matrix", LinearInterface(Dn=D, Dt=D))],
         boundary_conditions=_dilatation_bcs(strain),
@@ -123,7 +123,7 @@ def inclusion(D: float = 100.0, shape: str = "circle", a: float = 1.0, b: float 
     plate = Rectangle(-w / 2, -w / 2, w, w)
     return Case(
         name="inclusion", analysis="plane_strain", thickness=1.0,
-        description=f"{shape} glass inclusion in a polymer plate under tension, Dn = Dt = {D} MPa/mm",
+        description=f"{shape.capitalize()} inclusion in a plate, D = {D:g} MPa/mm",
         materials=glass_polymer(),
         bodies=[Body("inclusion", core, "glass"), Body("plate", plate, "polymer", holes=[core])],
         interfaces=[InterfacePair("inclusion", "plate", LinearInterface(Dn=D, Dt=D))],
