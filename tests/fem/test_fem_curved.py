@@ -175,3 +175,23 @@ def test_patch_test_on_a_rotated_plate_with_a_curved_perfect_interface(analysis)
     exact = 0.5 * ev @ m.stiffness(analysis) @ ev * 12.0 * 2.0
     assert r.quantities["strain_energy"] == pytest.approx(exact, rel=1e-10)
     assert np.abs(r.profiles["interface_jump"]["jump_n"]).max() < 1e-15
+
+
+def test_polygon_with_a_hole_and_an_inclusion_balances_energy():
+    """A trapezoid plate (slanted edge: off the structured grid) with a circular inclusion and a
+    spring interface, pulled on x = max: auto picks gmsh, and Clapeyron's theorem holds,
+    (bulk + interface energy) = (1/2) external work (homogeneous supports)."""
+    from interfaces.geometry import Polygon
+    m, g = IsotropicElastic(E=2400.0, nu=0.33), IsotropicElastic(E=70000.0, nu=0.25)
+    core = Circle(2.0, 1.2, 0.6)
+    plate = Polygon([[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 2.2]])
+    case = Case(name="trap", analysis="plane_stress", thickness=1.5, materials={"m": m, "g": g},
+                bodies=[Body("core", core, "g"), Body("plate", plate, "m", holes=[core])],
+                interfaces=[InterfacePair("core", "plate", LinearInterface(50.0, 20.0))],
+                boundary_conditions=[BoundaryCondition("fixed", "*", "xmin", ("x",), (0.0,)),
+                                     BoundaryCondition("traction", "*", "xmax", ("x", "y"), (5.0, 0.0))])
+    r = fem.solve(case, h=0.25)
+    assert r.diagnostics["mesher"] == "gmsh (curved)"
+    q = r.quantities
+    assert q["interface_energy"] > 1e-3 * q["strain_energy"]
+    assert q["strain_energy"] + q["interface_energy"] == pytest.approx(q["external_work"], rel=1e-10)
