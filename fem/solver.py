@@ -14,7 +14,8 @@ Reported (002 Sec 3.1):
 * ``stiffness_energy``: energy method k = P^2 / (2 U) (002 Eq 45), U = bulk strain
   energy + interface energy (002 Eq 15);
 * ``strain_energy`` (bulk), ``interface_energy``, ``load`` (P, N);
-* ``bulk_modulus`` where the case measures it (000 Eq 34-35: K = 2 U / (d^2 V eps0^2));
+* ``bulk_modulus`` where the case measures it (000 Eq 34-35: K = 2 U / (d^2 V eps0^2), d = 3
+  axisymmetric, d = 2 plane: the transverse bulk modulus);
 * profiles ``interface_jump`` (first interface) and ``interface_jump[a|b]`` per pair
   (``s, x, y, jump_n, jump_t, traction_n, traction_t, Dn, Dt, weight``), one profile per
   case line keyed by its name (``s, x, y, ux, uy``); fields at mesh vertices for VTK
@@ -189,7 +190,8 @@ def solve(case, **options) -> Result:
     if per_volume:      # 000 Fig 5: interfacial energy per unit specimen volume
         quantities["interface_energy_per_volume"] = U_int / float(per_volume)
     if "bulk_modulus" in case.measurements:      # 000 Eq 34-35, composite spheres / cylinders
-        quantities["bulk_modulus"] = measure_bulk_modulus(case.measurements["bulk_modulus"], U_bulk + U_int)
+        quantities["bulk_modulus"] = measure_bulk_modulus(case.measurements["bulk_modulus"], U_bulk + U_int,
+                                                          case.analysis)
     if meas:
         f_int = K_bulk @ u + sol["jumps"].T @ (sol["K_jump"] @ J)
         quantities.update(measure_stiffness(disc, meas, f_int, u, U_bulk + U_int))
