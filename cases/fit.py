@@ -191,18 +191,33 @@ def _solve(model: _Model, names, measured: np.ndarray, z0: float) -> tuple[np.nd
     res = _log_residuals(model, names, measured)
     lo, hi = LOG10_BOUNDS
     if len(names) == 1 and len(measured) == 1:
-        flo, fhi = res(np.array([lo]))[0], res(np.array([hi]))[0]
-        if flo * fhi > 0:
-            end = "below the debonded" if flo > 0 else "above the perfect"
-            raise SolverError(f"the measured stiffness {measured[0]:g} N/mm is {end}-interface end of the "
-                              f"model's range ({math.exp(flo) * measured[0]:.5g} .. {math.exp(fhi) * measured[0]:.5g} "
-                              "N/mm): check the specimen parameters (--set)")
-        return np.array([brentq(lambda v: res(np.array([v]))[0], lo, hi, xtol=1e-6)]), []
+        a, b = _bracket(lambda v: res(np.array([v]))[0], float(np.clip(z0, lo, hi)), lo, hi, measured[0])
+        return np.array([brentq(lambda v: res(np.array([v]))[0], a, b, xtol=1e-6)]), []
     sol = least_squares(res, np.full(len(names), np.clip(z0, lo, hi)), bounds=(lo, hi), x_scale=1.0,
                         diff_step=1e-3, xtol=1e-10, ftol=1e-12, gtol=1e-12)
     if not sol.success:
         raise SolverError(f"the least-squares fit did not converge ({sol.message})")
     return sol.x, []
+
+
+def _bracket(f, z0: float, lo: float, hi: float, k: float) -> tuple[float, float]:
+    """A sign change of the log residual f(log10 D), searched one decade at a time from z0 (the
+    stiffness rises with D): the model is never evaluated far beyond the answer, where a near-
+    mechanism (D -> 0) or a stiff tie (D -> inf) is ill-conditioned."""
+    f0 = f(z0)
+    step = 1.0 if f0 < 0 else -1.0            # model too soft: raise D
+    z = z0
+    while True:
+        z_next = min(max(z + step, lo), hi)
+        if z_next == z:
+            end = "above the perfect" if step > 0 else "below the debonded"
+            raise SolverError(f"the measured stiffness {k:g} N/mm is {end}-interface end of the model's range "
+                              f"(D = 10^{z:g} MPa/mm gives {math.exp(f0) * k:.5g} N/mm): check the specimen "
+                              "parameters (--set)")
+        f1 = f(z_next)
+        if f1 == 0.0 or (f1 > 0) != (f0 > 0):
+            return (z, z_next) if z < z_next else (z_next, z)
+        z, f0 = z_next, f1
 
 
 def plot_fit(result: FitResult, path: Path, model_curve=None) -> Path:

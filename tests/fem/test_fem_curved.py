@@ -106,9 +106,9 @@ def test_meshing_failures_are_one_line_case_errors(monkeypatch):
         fem.solve(apart, h=0.5)
     with pytest.raises(CaseError, match=r"element_size = 0.0001 mm gives about .* DOFs, above max_dofs"):
         fem.solve(_two_bodies(Circle(0, 0, 0.5), plate, [Circle(0, 0, 0.5)]), h=1e-4)
-    covered = _two_bodies(Circle(0, 0, 0.5), Rectangle(-0.1, -0.1, 0.2, 0.2), [])
-    with pytest.raises(CaseError, match=r"bodies\[1\] \('plate'\) is covered by earlier bodies"):
-        fem.solve(covered, h=0.1)
+    # a body inside another (no hole): refused by the case's overlap check where it has one, else by the mesher
+    with pytest.raises(CaseError, match=r"bodies\[1\] \('plate'\) is covered by earlier bodies|overlap"):
+        fem.solve(_two_bodies(Circle(0, 0, 0.5), Rectangle(-0.1, -0.1, 0.2, 0.2), []), h=0.1)
     clipped = Case(name="t", analysis="plane_strain", materials={"m": IsotropicElastic(E=1.0, nu=0.3)},
                    bodies=[Body("c", Ellipse(0, 0, 1.0, 0.5), "m", within=Rectangle(3, 3, 1, 1))])
     with pytest.raises(CaseError, match=r"bodies\[0\] \('c'\): nothing is left"):
