@@ -127,6 +127,33 @@ def fit(case: str, at: str, xs, stiffness, parameters=("Dt",), method: str = "an
     case parameter ``at`` = ``xs`` (module docstring). ``noise`` is the relative measurement
     scatter (e.g. 0.02); without it the residuals' RMS is used (needs more measurements than
     parameters)."""
+    xs, measured, names = _checked_inputs(case, xs, stiffness, parameters, noise)
+    model = _Model(case, at, xs, method, fixed or {}, options or {})
+    z, notes = _solve(model, names, measured, math.log10(start))
+    J = _jacobian_ln(model, names, z)
+    sigma, source = _scatter(model, names, z, measured, noise)
+    # parameters whose effect on every stiffness over half a decade is below the scatter are not determined
+    determined = [j for j in range(len(names)) if np.linalg.norm(J[:, j]) * 0.5 * math.log(10.0) > sigma]
+    undetermined = [n for j, n in enumerate(names) if j not in determined]
+    if not determined:
+        raise SolverError(f"none of {', '.join(names)} changes the stiffness by more than the noise "
+                          f"({100 * sigma:.2g} %) over a decade: these measurements cannot determine them "
+                          "(002 Sec 3.4: the DLS tells Dt when its bond is short, small beta l; the DCB tells Dn "
+                          "only when Dn is low)")
+    if undetermined:        # refit the others with the undetermined ones at their case values
+        names = [names[j] for j in determined]
+        z, notes = _solve(model, names, measured, z[determined[0]])
+        J = _jacobian_ln(model, names, z)
+        sigma, source = _scatter(model, names, z, measured, noise)
+    params, ranges, sens = _ranges(names, z, J, sigma, notes)
+    fitted = model.all(params)
+    return FitResult(case=case, method=method, parameters=params, ranges=ranges, sensitivities=sens,
+                     undetermined=undetermined, at=at, x=xs, measured=[float(v) for v in measured],
+                     fitted=[float(v) for v in fitted], noise=sigma, noise_source=source,
+                     evaluations=model.evaluations, notes=notes)
+
+
+def _checked_inputs(case: str, xs, stiffness, parameters, noise):
     xs = [float(v) for v in xs]
     measured = np.asarray(stiffness, dtype=float)
     if len(xs) != len(measured) or len(xs) == 0:
@@ -138,52 +165,37 @@ def fit(case: str, at: str, xs, stiffness, parameters=("Dt",), method: str = "an
         raise CaseError(f"--fit must list Dt and/or Dn, got {','.join(parameters)}")
     if noise is not None and not 0 < noise < 1:
         raise CaseError(f"--noise is a relative scatter in (0, 1), got {noise}")
-    model = _Model(case, at, xs, method, fixed or {}, options or {})
     for n in names:
         if n not in registry.parameters(case):
             raise CaseError(f"--fit: case {case} has no parameter {n!r}")
-    z, notes = _solve(model, names, measured, math.log10(start))
-    J = _jacobian_ln(model, names, z)
-    fitted = model.all({n: 10.0 ** v for n, v in zip(names, z)})
-    resid = np.log(fitted / measured)
-    dof = len(xs) - len(names)
-    if noise is None:
-        if dof < 1:
-            raise CaseError("--noise is needed for a range when there are no more measurements than fitted "
-                            "parameters (the residuals cannot estimate the scatter)")
-        sigma, source = float(np.sqrt(resid @ resid / dof)), "RMS of the residuals"
-    else:
-        sigma, source = float(noise), "given"
-    sigma = max(sigma, 1e-12)
-    # parameters whose effect on every stiffness is far below the scatter are not determined
-    determined = [j for j in range(len(names)) if np.linalg.norm(J[:, j]) * 0.5 * math.log(10.0) > sigma]
-    undetermined = [names[j] for j in range(len(names)) if j not in determined]
-    if not determined:
-        raise SolverError(f"none of {', '.join(names)} changes the stiffness by more than the noise "
-                          f"({100 * sigma:.2g} %) over a decade: these measurements cannot determine them "
-                          "(002 Sec 3.4: the DLS tells Dt when its bond is short, small beta l; the DCB tells Dn "
-                          "only when Dn is low)")
-    if undetermined:        # refit the others with the undetermined ones at their case values
-        names = [names[j] for j in determined]
-        z, notes = _solve(model, names, measured, z[determined[0]])
-        J = _jacobian_ln(model, names, z)
-        fitted = model.all({n: 10.0 ** v for n, v in zip(names, z)})
-        determined = list(range(len(names)))
-    Jd = J[:, determined]
-    cov = sigma ** 2 * np.linalg.inv(Jd.T @ Jd)                        # in (ln D)^2
+    return xs, measured, names
+
+
+def _scatter(model: _Model, names, z: np.ndarray, measured: np.ndarray, noise) -> tuple[float, str]:
+    """The relative measurement scatter: given, or the RMS of the fit's log residuals."""
+    if noise is not None:
+        return float(noise), "given"
+    dof = len(measured) - len(names)
+    if dof < 1:
+        raise CaseError("--noise is needed for a range when there are no more measurements than fitted "
+                        "parameters (the residuals cannot estimate the scatter)")
+    resid = _log_residuals(model, names, measured)(z)
+    return max(float(np.sqrt(resid @ resid / dof)), 1e-12), "RMS of the residuals"
+
+
+def _ranges(names, z: np.ndarray, J: np.ndarray, sigma: float, notes: list[str]):
+    """Fitted values, +-COVERAGE standard-error ranges from sigma^2 (J^T J)^-1 in ln D, and
+    the sensitivities d ln k_i / d ln D."""
+    cov = sigma ** 2 * np.linalg.inv(J.T @ J)
     params, ranges, sens = {}, {}, {}
-    for k, j in enumerate(determined):
-        D = 10.0 ** z[j]
-        se = math.sqrt(cov[k, k])
-        params[names[j]], ranges[names[j]] = D, (D * math.exp(-COVERAGE * se), D * math.exp(COVERAGE * se))
-        sens[names[j]] = [float(v) for v in J[:, j]]
+    for j, name in enumerate(names):
+        D, se = 10.0 ** z[j], math.sqrt(cov[j, j])
+        params[name], ranges[name] = D, (D * math.exp(-COVERAGE * se), D * math.exp(COVERAGE * se))
+        sens[name] = [float(v) for v in J[:, j]]
         if z[j] >= LOG10_BOUNDS[1] - 1e-6:
-            notes.append(f"{names[j]} reached the upper bound 1e9 MPa/mm: the data are consistent with a perfect "
+            notes.append(f"{name} reached the upper bound 1e9 MPa/mm: the data are consistent with a perfect "
                          "interface")
-    return FitResult(case=case, method=method, parameters=params, ranges=ranges, sensitivities=sens,
-                     undetermined=undetermined, at=at, x=xs, measured=[float(v) for v in measured],
-                     fitted=[float(v) for v in fitted], noise=sigma, noise_source=source,
-                     evaluations=model.evaluations, notes=notes)
+    return params, ranges, sens
 
 
 def _solve(model: _Model, names, measured: np.ndarray, z0: float) -> tuple[np.ndarray, list[str]]:

@@ -124,7 +124,22 @@ def build_gmsh_mesh(case, h: float, max_dofs: float) -> GmshMesh:
 
 
 def _mesh(gmsh, case, h: float, max_dofs: float) -> GmshMesh:
-    occ = gmsh.model.occ
+    owner = _fragments(gmsh.model.occ, case)
+    _check_size(np.array([gmsh.model.occ.getMass(2, tag) for tag in owner]), h, max_dofs)
+    for key, value in (("Mesh.MeshSizeMax", h), ("Mesh.MeshSizeMin", 0.0), ("Mesh.ElementOrder", 2),
+                       ("Mesh.MeshSizeFromCurvature", CURVATURE_ELEMENTS), ("Mesh.Algorithm", 6),
+                       ("Mesh.HighOrderOptimize", 0), ("Mesh.SecondOrderLinear", 0)):
+        gmsh.option.setNumber(key, value)
+    try:
+        gmsh.model.mesh.generate(2)
+    except Exception as e:
+        raise CaseError(f"element_size: gmsh could not mesh the bodies with h = {h:g} mm ({e})") from None
+    return _per_body_mesh(gmsh, case, owner)
+
+
+def _fragments(occ, case) -> dict[int, int]:
+    """Build every body's surface and fragment them all together (conforming shared curves);
+    returns the owning body index of each resulting surface (the first body containing it)."""
     inputs = []
     for i, body in enumerate(case.bodies):
         try:
@@ -142,20 +157,16 @@ def _mesh(gmsh, case, h: float, max_dofs: float) -> GmshMesh:
         raise CaseError(f"bodies: gmsh could not combine the shapes ({e})") from None
     owner: dict[int, int] = {}
     for k, pieces in enumerate(out_map):
-        for dim, tag in pieces:
-            owner.setdefault(tag, owner_of_input[k])       # first body containing the piece
+        for _, tag in pieces:
+            owner.setdefault(tag, owner_of_input[k])
     for i, body in enumerate(case.bodies):
         if i not in owner.values():
             raise CaseError(f"bodies[{i}] ({body.name!r}) is covered by earlier bodies: it gets no elements")
-    _check_size(np.array([occ.getMass(2, tag) for tag in owner]), h, max_dofs)
-    for key, value in (("Mesh.MeshSizeMax", h), ("Mesh.MeshSizeMin", 0.0), ("Mesh.ElementOrder", 2),
-                       ("Mesh.MeshSizeFromCurvature", CURVATURE_ELEMENTS), ("Mesh.Algorithm", 6),
-                       ("Mesh.HighOrderOptimize", 0), ("Mesh.SecondOrderLinear", 0)):
-        gmsh.option.setNumber(key, value)
-    try:
-        gmsh.model.mesh.generate(2)
-    except Exception as e:
-        raise CaseError(f"element_size: gmsh could not mesh the bodies with h = {h:g} mm ({e})") from None
+    return owner
+
+
+def _per_body_mesh(gmsh, case, owner: dict[int, int]) -> GmshMesh:
+    """The generated 6-node triangles, each body with its own copy of its nodes."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
     xy = np.zeros((int(tags.max()) + 1, 2))
     xy[tags.astype(np.int64)] = coords.reshape(-1, 3)[:, :2]
