@@ -38,8 +38,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from interfaces.analytic._checks import CaseError, interface_stiffness, points, positive
-from interfaces.analytic.composite_spheres import modulus_from_inverse, series_inverse_modulus
+from interfaces.analytic._checks import points, positive
+from interfaces.analytic.composite_spheres import (check_coated_inclusion, modulus_from_inverse,
+                                                    series_inverse_modulus)
 from interfaces.errors import check_number
 
 __all__ = ["CompositeCylinders", "composite_cylinders_bulk_modulus", "plane_strain_bulk_modulus"]
@@ -65,14 +66,7 @@ class CompositeCylinders:
     Dn: float = math.inf
 
     def __post_init__(self) -> None:
-        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 (frozen dataclass)
-        for name in ("k_f", "k_m", "G_m", "a"):
-            set_(name, positive(name, getattr(self, name)))
-        set_("phi", check_number("phi", self.phi, low=0.0, high=1.0, high_open=True))
-        set_("Dn", interface_stiffness("Dn", self.Dn, allow_negative=True))
-        if self.Dn < 0.0 and self.inverse_effective_fibre_modulus < 0.0:
-            raise CaseError(f"Dn = {self.Dn:g} MPa/mm is beyond the rigid-interphase limit: a negative "
-                            f"Dn must satisfy 1/k_f + 2/(a Dn) >= 0, i.e. Dn <= {-2.0 * self.k_f / self.a:g} MPa/mm")
+        check_coated_inclusion(self, ("k_f", "k_m", "G_m"), "k_f", 2.0)
 
     @property
     def b(self) -> float:
