@@ -195,3 +195,11 @@ def test_polygon_with_a_hole_and_an_inclusion_balances_energy():
     q = r.quantities
     assert q["interface_energy"] > 1e-3 * q["strain_energy"]
     assert q["strain_energy"] + q["interface_energy"] == pytest.approx(q["external_work"], rel=1e-10)
+
+
+def test_a_debonded_inclusion_without_support_is_refused():
+    """D = 0 leaves the inclusion free (no support, no bond): a one-line SolverError, not a result."""
+    from interfaces.errors import SolverError
+    case = cases.build("inclusion", D=0.0, width=4.0)
+    with pytest.raises(SolverError, match="move freely|under-constrained"):
+        fem.solve(case, h=0.5)
