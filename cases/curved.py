@@ -49,28 +49,40 @@ def _checked_fraction(volume_fraction: float) -> float:
 
 
 def composite_spheres(D: float = math.inf, radius: float = 0.7, volume_fraction: float = 0.1796,
-                      strain: float = 0.005, fem_h: float | None = None) -> Case:
+                      strain: float = 0.005, section: str = "quarter", fem_h: float | None = None) -> Case:
     """Composite sphere of 000 Sec 3 (glass in polymer, Dn = Dt = D), axisymmetric.
 
-    The r-z section of the upper half (r, z >= 0; the equator z = 0 is a symmetry plane,
-    which also holds a debonded particle in place) of a sphere of ``radius`` (mm) in a
-    concentric shell of outer radius b = radius / volume_fraction^(1/3); the outer sphere
-    moves radially, u = strain * x. Bulk modulus K = 2 U / (9 V eps0^2) (000 Eq 35) with
-    U the whole-ring energy and V the hemisphere's volume; reference: the composite-
-    spheres model with an imperfect interface (exact for this geometry).
+    A sphere of ``radius`` (mm) in a concentric shell of outer radius b = radius /
+    volume_fraction^(1/3), meshed in the r-z plane: ``section = "quarter"`` (default) is the
+    upper half (r, z >= 0, the equator z = 0 a symmetry plane, which also holds a debonded
+    particle in place), ``"half"`` the whole meridian half disc (r >= 0; needs D > 0, a
+    debonded particle is free along the axis there). The outer sphere moves radially,
+    u = strain * x. Bulk modulus K = 2 U / (9 V eps0^2) (000 Eq 35) with U the whole-ring
+    energy and V the meshed volume; reference: the composite-spheres model with an
+    imperfect interface (exact for this geometry).
     """
     a = check_number("radius", radius, low=0.0, low_open=True)
     phi = _checked_fraction(volume_fraction)
+    if section not in ("quarter", "half"):
+        raise CaseError(f"section must be 'quarter' or 'half', got {section!r}")
+    if section == "half" and D == 0.0:
+        raise CaseError("section 'half' needs D > 0: a debonded particle is free to move along the axis "
+                        "(use section 'quarter', whose equator holds it)")
     b = a / phi ** (1.0 / 3.0)
     mats = glass_polymer()
     g, p = mats["glass"], mats["polymer"]
+    half = section == "half"
+    clip = Rectangle(0.0, -b if half else 0.0, b, 2.0 * b if half else b)
+    bcs = _dilatation_bcs(strain)
+    if half:    # no equator plane: the outer dilatation holds the axial position
+        bcs = [bc for bc in bcs if bc.side != "ymin"]
     return Case(
         name="composite_spheres", analysis="axisymmetric", thickness=1.0,
         description=f"Composite sphere, a = {a:g} mm, phi = {phi:.4g}, D = {D:g} MPa/mm",
-        materials=mats, bodies=_concentric(a, b, Rectangle(0.0, 0.0, b, b), "particle"),
+        materials=mats, bodies=_concentric(a, b, clip, "particle"),
         interfaces=[InterfacePair("particle", "matrix", LinearInterface(Dn=D, Dt=D))],
-        boundary_conditions=_dilatation_bcs(strain),
-        measurements={"bulk_modulus": {"strain": strain, "volume": 2.0 * math.pi * b ** 3 / 3.0}},
+        boundary_conditions=bcs,
+        measurements={"bulk_modulus": {"strain": strain, "volume": (4.0 if half else 2.0) * math.pi * b ** 3 / 3.0}},
         discretization={"fem": {"h": fem_h if fem_h is not None else min(a, b - a) / 6.0}},
         analytic={"model": "composite_spheres", "K_p": g.K, "G_p": g.G, "K_m": p.K, "G_m": p.G,
                   "phi": phi, "a": a, "Dn": D, "Dt": D},
