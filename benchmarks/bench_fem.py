@@ -2,7 +2,8 @@
 
 Prints DOFs, mesh / assembly / constraint / solve times and DOFs per second for
 assembly + solve, checks the answer against the shear-lag model (002 Eq 40-42), and
-writes the figures to JSON. Target: 250k DOFs assembled and solved in under 15 s.
+writes the figures to JSON. Target: 266k DOFs (the default h) assembled and solved in under 4 s; the machine load
+(1-minute average, in the JSON) says how far a figure can be trusted.
 
     PYTHONPATH=. python benchmarks/bench_fem.py [--h 0.042] [--Dt 10] [--order 2] [--out benchmarks/bench_fem.json]
 """
@@ -33,12 +34,12 @@ def main(argv=None) -> dict:
     case = dls(Dt=args.Dt)
     best = None
     for _ in range(args.repeat):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         r = fem.solve(case, h=args.h, order=args.order, fields=False)
-        wall = time.perf_counter() - t0
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         if best is None or wall < best[1]:
-            best = (r, wall)
-    r, wall = best
+            best = (r, wall, cpu)
+    r, wall, cpu = best
     t = r.timings
     dofs = r.diagnostics["dofs"]
     asm_solve = t["mesh"] + t["assembly"] + t["constraints"] + t["solve"]
@@ -49,9 +50,12 @@ def main(argv=None) -> dict:
         "interface_elements": r.diagnostics["interface_elements"],
         "time_mesh_s": t["mesh"], "time_assembly_s": t["assembly"], "time_constraints_s": t["constraints"],
         "time_solve_s": t["solve"], "time_post_s": t["post"], "time_total_s": wall,
+        # CPU seconds of the whole solve (all threads): with one thread (MKL_NUM_THREADS=1) the
+        # wall time a quiet machine would give, whatever the load
+        "cpu_total_s": cpu,
         "time_assembly_plus_solve_s": asm_solve, "dofs_per_s": dofs / asm_solve,
-        "target": "250k DOFs assembled + solved in < 15 s",
-        "target_met": bool(dofs >= 2.5e5 and asm_solve < 15.0) if dofs >= 2.5e5 else None,
+        "target": "250k DOFs assembled + solved in < 4 s",
+        "target_met": bool(dofs >= 2.5e5 and asm_solve < 4.0) if dofs >= 2.5e5 else None,
         "stiffness": r.quantities["stiffness"], "stiffness_energy": r.quantities["stiffness_energy"],
         "shear_lag_stiffness": ref, "relative_difference": r.quantities["stiffness"] / ref - 1.0,
         "backward_error": r.diagnostics["backward_error"],
@@ -62,7 +66,9 @@ def main(argv=None) -> dict:
     print(f"  mesh {t['mesh']:.2f} s, assembly {t['assembly']:.2f} s, constraints {t['constraints']:.2f} s, "
           f"solve {t['solve']:.2f} s, post {t['post']:.2f} s")
     print(f"  assembly + solve {asm_solve:.2f} s -> {dofs / asm_solve:,.0f} DOFs/s"
-          + ("" if out["target_met"] is None else f" (target < 15 s at 250k DOFs: {'met' if out['target_met'] else 'MISSED'})"))
+          + ("" if out["target_met"] is None else f" (target < 4 s at 250k DOFs: {'met' if out['target_met'] else 'MISSED'})"))
+    print(f"  CPU time of the whole solve {cpu:.2f} s (1-minute load {out['load_average_1min']:.1f}; with "
+          "MKL_NUM_THREADS=1 this is the wall time of a quiet machine)")
     print(f"  k = {r.quantities['stiffness']:.3f} N/mm (energy method {r.quantities['stiffness_energy']:.3f}), "
           f"shear lag {ref:.3f}: {100 * out['relative_difference']:+.3f} %")
     Path(args.out).write_text(json.dumps(out, indent=1, default=lambda v: None if isinstance(v, float) and math.isnan(v) else v))

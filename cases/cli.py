@@ -17,6 +17,7 @@ from pathlib import Path
 from interfaces import Case, CaseError, SolverError
 
 from . import registry
+from . import fit
 from .compare import compare
 from .methods import supported_methods
 from .output import RUN_OUTPUTS, check_output_dir, staged_output
@@ -234,12 +235,14 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--quantities", default=None, help="comma list of quantities to plot (default: shared ones)")
     w.add_argument("--x", choices=["linear", "inverse", "log"], default="linear", help="x axis of the plot")
     w.add_argument("--out", default="out", help="folder for sweep.json/csv/png and the per-point records")
+    fit.add_parser(sub)
     return p
 
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
-    handler = {"list": cmd_list, "show": cmd_show, "run": cmd_run, "sweep": cmd_sweep}[args.command]
+    handler = {"list": cmd_list, "show": cmd_show, "run": cmd_run, "sweep": cmd_sweep,
+               "fit": fit.cmd_fit}[args.command]
     try:
         return handler(args)
     except (CaseError, SolverError) as e:

@@ -3,6 +3,7 @@ and sweep curves (one per method) against a case parameter."""
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -26,7 +27,8 @@ def _finish(fig, unused_axes, title: str, path) -> Path:
     """Hide unused panels, title, save as PNG and close."""
     for ax in unused_axes:
         ax.axis("off")
-    fig.suptitle(title, fontsize=10)
+    # wrapped to the figure width (~11 characters per inch at 10 pt): one-panel figures are narrow
+    fig.suptitle(textwrap.fill(title, max(30, int(11 * fig.get_figwidth()))), fontsize=10)
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=120)

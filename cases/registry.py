@@ -7,7 +7,7 @@ from typing import Callable
 
 from interfaces import Case, CaseError
 
-from . import library
+from . import curved, library
 
 CASES: dict[str, Callable[..., Case]] = {
     "dls": library.dls,
@@ -17,6 +17,9 @@ CASES: dict[str, Callable[..., Case]] = {
     "particulate": library.particulate,
     "bimaterial_square": library.bimaterial_square,
     "cuboid": library.cuboid,
+    "composite_spheres": curved.composite_spheres,
+    "composite_cylinders": curved.composite_cylinders,
+    "inclusion": curved.inclusion,
 }
 
 

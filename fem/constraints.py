@@ -43,13 +43,16 @@ class Elimination:
                K_jump: sp.spmatrix | None = None) -> tuple[sp.csr_matrix, np.ndarray]:
         """T^T K T and T^T (f - K g), plus G^T K_J G, -G^T K_J h for an interface stiffness
         K_J acting on the nodal jumps J = jumps @ u = G q + h (exact cancellation)."""
-        Kr = (self.T.T @ (K @ self.T)).tocsr()
-        fr = self.T.T @ (f - K @ self.g)
+        # transposes as csr: a csc left factor would make scipy convert the large K T to csc
+        Tt = self.T.T.tocsr()
+        Kr = Tt @ (sp.csr_matrix(K) @ self.T)
+        fr = Tt @ (f - K @ self.g)
         if K_jump is not None and K_jump.shape[0]:
             G, h = self.jump_map(jumps)
-            Kr = (Kr + G.T @ (K_jump @ G)).tocsr()
-            fr = fr - G.T @ (K_jump @ h)
-        return Kr, fr
+            Gt = G.T.tocsr()
+            Kr = Kr + Gt @ (K_jump @ G)
+            fr = fr - Gt @ (K_jump @ h)
+        return Kr.tocsr(), fr
 
     def jump_map(self, jumps: sp.spmatrix) -> tuple[sp.csr_matrix, np.ndarray]:
         """G, h with J = G q + h."""

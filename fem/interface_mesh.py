@@ -110,8 +110,8 @@ def find_interface_elements(case, mesh, basis, element_body: np.ndarray, order: 
         dist, j = cKDTree(mid[fbody == ia]).query(mid[fbody == ib], distance_upper_bound=tol)
         hit = np.isfinite(dist)
         if not np.any(hit):
-            raise CaseError(f"interfaces[{index}]: bodies {pair.a!r} and {pair.b!r} share no edge "
-                            "(fem needs the two rectangles to touch along a side)")
+            raise CaseError(f"interfaces[{index}]: bodies {pair.a!r} and {pair.b!r} share no boundary "
+                            "(an interface needs two bodies that touch along an edge or curve)")
         f_b, f_a = fbb[hit], fa[j[hit]]
         # side 1 = body b with b on the right of node 1 -> node n
         v0, v1 = mesh.facets[0, f_b].copy(), mesh.facets[1, f_b].copy()
@@ -131,7 +131,8 @@ def find_interface_elements(case, mesh, basis, element_body: np.ndarray, order: 
             fd = basis.facet_dofs
             side1 = [nd[0, v0], fd[0, f_b], nd[0, v1]]
             side2 = [nd[0, a1], fd[0, f_a], nd[0, a0]]
-            xy = np.stack([p[:, v0].T, 0.5 * (p[:, v0] + p[:, v1]).T, p[:, v1].T], axis=1)
+            # the middle node where the bulk element has it: on the curve for curved meshes (002 Eq 26-29)
+            xy = np.stack([p[:, v0].T, basis.doflocs[:, fd[0, f_b]].T, p[:, v1].T], axis=1)
         else:
             side1 = [nd[0, v0], nd[0, v1]]
             side2 = [nd[0, a1], nd[0, a0]]

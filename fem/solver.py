@@ -1,7 +1,8 @@
 """``fem.solve(case)``: static linear FEM with imperfect interface elements (002 Sec 2).
 
 Bodies are meshed on one structured grid (``fem.mesh``: quads, or triangles for 45-degree
-polygon edges; 9-node ``ElementQuad2`` / 6-node ``ElementTriP2`` by default, linear
+polygon edges), or by gmsh into curved 6-node triangles where shapes are curved
+(``fem.gmsh_mesh``; 9-node ``ElementQuad2`` / 6-node ``ElementTriP2`` by default, linear
 with ``order=1``), nodes duplicated along interfaces and joined by the 2n-node interface
 elements of 002 Eq 15-19 (6-node with quadratic, 4-node with linear bulk elements),
 assembled on jump unknowns in the interface frame. Finite Dn, Dt enter as stiffness;
@@ -13,6 +14,8 @@ Reported (002 Sec 3.1):
 * ``stiffness_energy``: energy method k = P^2 / (2 U) (002 Eq 45), U = bulk strain
   energy + interface energy (002 Eq 15);
 * ``strain_energy`` (bulk), ``interface_energy``, ``load`` (P, N);
+* ``bulk_modulus`` where the case measures it (000 Eq 34-35: K = 2 U / (d^2 V eps0^2), d = 3
+  axisymmetric, d = 2 plane: the transverse bulk modulus);
 * profiles ``interface_jump`` (first interface) and ``interface_jump[a|b]`` per pair
   (``s, x, y, jump_n, jump_t, traction_n, traction_t, Dn, Dt, weight``), one profile per
   case line keyed by its name (``s, x, y, ux, uy``); fields at mesh vertices for VTK
@@ -33,19 +36,21 @@ import time
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
 from interfaces.case import InterfacePair
 from interfaces.errors import CaseError, SolverError
 from interfaces.laws import LinearInterface
 from interfaces.result import Result
+from interfaces.sparse import KINDS as SOLVER_KINDS
+from interfaces.sparse import DirectSolver, SingularMatrixError
 
 from .assembly import bulk_stiffness, jump_operator, jump_stiffness
 from .boundary import apply_boundary_conditions, pin_rigid_modes, rigid_modes
 from .constraints import build_elimination
 from .discretization import discretize
 from .interface_mesh import check_one_direction_straight, find_interface_elements, node_pairs, pair_index
+from .measure import bulk_modulus as measure_bulk_modulus
 from .measure import stiffness as measure_stiffness
 from .mesh import default_element_size
 from .post import interface_profile, line_profile, recover_tractions, vertex_stress
@@ -61,6 +66,9 @@ OPTIONS = {
     "pin_rigid_modes": "fix the fewest DOFs that remove unrestrained rigid motion (default True)",
     "fields": "store vertex fields and cells (default True)",
     "max_contact_iterations": "active-set iterations for bilinear normal laws (default 50)",
+    "mesher": "auto (gmsh for curved shapes or off-grid polygon edges, else structured; default), structured or gmsh",
+    "curved": "gmsh meshes: quadratic edges follow the curves (default True); False: straight-sided triangles",
+    "solver": "sparse direct solver: auto (PARDISO when it loads, else SuperLU; default), pardiso or superlu",
 }
 
 
@@ -85,6 +93,13 @@ def _options(case, options: dict) -> dict:
            "pin_rigid_modes": bool(opts.get("pin_rigid_modes", True)),
            "fields": bool(opts.get("fields", True)),
            "max_contact_iterations": int(opts.get("max_contact_iterations", 50))}
+    out["solver"] = opts.get("solver", "auto")
+    out["mesher"] = opts.get("mesher", "auto")
+    out["curved"] = opts.get("curved", True)
+    if not isinstance(out["curved"], (bool, np.bool_)):
+        raise CaseError(f"fem option curved must be true or false, got {out['curved']!r}")
+    if out["solver"] not in SOLVER_KINDS:
+        raise CaseError(f"fem option solver must be one of {', '.join(SOLVER_KINDS)}, got {out['solver']!r}")
     if out["line_points"] < 2 or out["jump_points"] < 1:
         raise CaseError("fem options line_points must be >= 2 and jump_points >= 1")
     return out
@@ -115,7 +130,8 @@ def solve(case, **options) -> Result:
     warnings: list[str] = []
 
     t0 = time.perf_counter()
-    disc = discretize(case, opts["element_size"], opts["order"], opts["intorder"], opts["max_dofs"])
+    disc = discretize(case, opts["element_size"], opts["order"], opts["intorder"], opts["max_dofs"],
+                      opts["mesher"], bool(opts["curved"]))
     timings["mesh"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -139,8 +155,12 @@ def solve(case, **options) -> Result:
     # (002 Sec 3.1: "an iterative FEA procedure could prevent interpenetration")
     bilinear = any(el.bilinear for el in ielems)
     history = []
+    try:
+        linear_solver = DirectSolver(opts["solver"], ordering="minimum_degree")
+    except ValueError as e:         # 'pardiso' asked for but MKL missing
+        raise CaseError(f"fem option solver: {e}") from None
     for iteration in range(opts["max_contact_iterations"] if bilinear else 1):
-        sol = _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings)
+        sol = _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings, linear_solver)
         if not bilinear:
             break
         changed = sum(_update_branches(el, sol) for el in ielems if el.bilinear)
@@ -176,6 +196,9 @@ def solve(case, **options) -> Result:
     per_volume = (case.measurements.get("interface_energy") or {}).get("per_volume")
     if per_volume:      # 000 Fig 5: interfacial energy per unit specimen volume
         quantities["interface_energy_per_volume"] = U_int / float(per_volume)
+    if "bulk_modulus" in case.measurements:      # 000 Eq 34-35, composite spheres / cylinders
+        quantities["bulk_modulus"] = measure_bulk_modulus(case.measurements["bulk_modulus"], U_bulk + U_int,
+                                                          case.analysis)
     if meas:
         f_int = K_bulk @ u + sol["jumps"].T @ (sol["K_jump"] @ J)
         quantities.update(measure_stiffness(disc, meas, f_int, u, U_bulk + U_int))
@@ -192,7 +215,7 @@ def solve(case, **options) -> Result:
     if opts["fields"]:
         mat_names = list(case.materials)
         body_mat = np.array([mat_names.index(b.material) for b in case.bodies])
-        fields = {"position": disc.mesh.p.T.copy(),
+        fields = {"position": bm.p.T.copy(),
                   "displacement": u[disc.basis.nodal_dofs].T.copy(),
                   "stress": vertex_stress(disc.mesh, disc.element, u, bm.element_body, moduli, disc.axisymmetric),
                   "material": body_mat[bm.vertex_body],
@@ -203,12 +226,12 @@ def solve(case, **options) -> Result:
 
     diagnostics = {
         "dofs": int(disc.ndof), "free_dofs": int(sol["free_dofs"]), "elements": int(disc.mesh.t.shape[1]),
-        "cell_type": bm.cell_type, "order": disc.order, "element_size": opts["element_size"],
+        "cell_type": bm.cell_type, "mesher": disc.mesher, "order": disc.order, "element_size": opts["element_size"],
         "interface_elements": {f"{el.a}|{el.b}": int(len(el.xy)) for el in ielems},
         "interface_node_pairs": int(len(pairs.a)), "perfect_normal_nodes": int(pairs.perfect_n.sum()),
         "perfect_tangential_nodes": int(pairs.perfect_t.sum()), "prescribed_dofs": int(len(presc_d)),
         "pinned_dofs": [int(d) for d in pins], "backward_error": sol["backward_error"],
-        "negative_pivots": sol["negative_pivots"],
+        "negative_pivots": sol["negative_pivots"], "solver": linear_solver.name,
         "stress_components": ["rr", "zz", "tt", "rz"] if disc.axisymmetric else ["xx", "yy", "xy"],
         "warnings": warnings,
     }
@@ -219,9 +242,11 @@ def solve(case, **options) -> Result:
                   profiles=profiles, timings=timings, diagnostics=diagnostics)
 
 
-def _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings) -> dict:
+def _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings, linear_solver) -> dict:
     """One linear solve with the elements' current Dn, Dt: interface operators, exact
-    elimination (fem.constraints), SuperLU, nodal jumps and recovered tractions."""
+    elimination (fem.constraints), the sparse direct solve, nodal jumps and recovered
+    tractions. ``linear_solver`` (``interfaces.sparse.DirectSolver``) is kept across the
+    active-set iterations, so PARDISO reuses its symbolic analysis."""
     t0 = time.perf_counter()
     pairs, jumps, K_jump, M_jump = _interface_operators(disc, ielems)
     elim = build_elimination(disc.ndof, pairs, prescribed=prescribed, values=values,
@@ -230,7 +255,7 @@ def _linear_solution(disc, ielems, K_bulk, f, prescribed, values, timings) -> di
     timings["constraints"] += time.perf_counter() - t0
     t0 = time.perf_counter()
     negative_D = any(np.any(el.finite_Dn < 0) or np.any(el.finite_Dt < 0) for el in ielems)
-    q, backward_error, negative_pivots = _solve_symmetric(Kr, fr, allow_indefinite=negative_D)
+    q, backward_error, negative_pivots = _solve_symmetric(Kr, fr, negative_D, linear_solver)
     u = elim.expand(q)
     G, h = elim.jump_map(jumps)
     J = G @ q + h                   # nodal jumps (normal, tangential) u_b - u_a, without cancellation
@@ -285,27 +310,28 @@ def _interface_operators(disc, ielems):
     return pairs, jumps, K_jump.tocsr(), M_jump.tocsr()
 
 
-def _solve_symmetric(Kr: sp.csr_matrix, fr: np.ndarray, allow_indefinite: bool) -> tuple[np.ndarray, float, int]:
-    """Sparse direct solve (SuperLU, symmetric mode, minimum degree on A^T + A: ~20x faster
-    than the default ordering here) with one step of iterative refinement. Returns the
-    solution, the componentwise backward error and the number of negative pivots (-1 if
-    SuperLU pivoted off the diagonal). Negative interface parameters (002 Eq 52) make the
-    equilibrium a saddle point (``allow_indefinite``)."""
+def _solve_symmetric(Kr: sp.csr_matrix, fr: np.ndarray, allow_indefinite: bool,
+                     linear_solver: DirectSolver) -> tuple[np.ndarray, float, int]:
+    """Sparse direct solve (``interfaces.sparse``: PARDISO LDL^T, or SuperLU in symmetric
+    mode) with one step of iterative refinement. Returns the solution, the componentwise
+    backward error and the number of negative pivots (-1 if SuperLU pivoted off the
+    diagonal). Negative interface parameters (002 Eq 52) make the equilibrium a saddle
+    point (``allow_indefinite``); otherwise a negative pivot means a material error."""
     if Kr.shape[0] == 0:
         return np.zeros(0), 0.0, 0
     try:
-        lu = spla.splu(Kr.tocsc(), permc_spec="MMD_AT_PLUS_A",
-                       options={"SymmetricMode": True, "DiagPivotThresh": 0.01})
-    except RuntimeError as e:  # SuperLU: exactly singular
+        linear_solver.factorize(Kr)
+    except SingularMatrixError as e:
         raise SolverError(f"the stiffness matrix is singular ({e}): a body or part of it can move "
                           "freely; add supports or give debonded interfaces some stiffness") from None
-    # with symmetric pivoting the pivots carry the inertia of Kr (Sylvester's law)
-    negative_pivots = int(np.sum(lu.U.diagonal() < 0)) if np.all(lu.perm_r == lu.perm_c) else -1
+    # symmetric pivoting keeps the inertia of Kr in the pivots (Sylvester's law)
+    negative_pivots = linear_solver.negative_pivots()
     if negative_pivots > 0 and not allow_indefinite:
         raise SolverError(f"the stiffness matrix has {negative_pivots} negative pivots although all interface "
-                          "parameters are >= 0: check the material constants (positive definite moduli)")
-    q = lu.solve(fr)
-    q = q + lu.solve(fr - Kr @ q)
+                          "parameters are >= 0: a body or part of it can move freely (add supports or give "
+                          "debonded interfaces some stiffness), or the material constants are not positive definite")
+    q = linear_solver.solve(fr)
+    q = q + linear_solver.solve(fr - Kr @ q)
     res = _backward_error(Kr, q, fr)
     if not np.all(np.isfinite(q)) or res > 1e-8:
         raise SolverError(f"linear solve failed (componentwise backward error {res:.2e}): the structure is "
@@ -325,8 +351,10 @@ def _backward_error(A, x, b) -> float:
     independent of the scaling of rows, so stiff interface unknowns do not distort it."""
     if A.shape[0] == 0:
         return 0.0
+    A = sp.csr_matrix(A)
     r = np.abs(b - A @ x)
-    denom = abs(A) @ np.abs(x) + np.abs(b)
+    absA = sp.csr_matrix((np.abs(A.data), A.indices, A.indptr), shape=A.shape)  # duplicates sum the same
+    denom = absA @ np.abs(x) + np.abs(b)
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(denom > 0, r / denom, np.where(r > 0, np.inf, 0.0))
     return float(ratio.max())

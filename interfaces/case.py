@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from .errors import CaseError, check_number
-from .geometry import SIDES, Shape, shape_from_dict
+from .geometry import CURVE_SIDE, SIDES, Shape, shape_from_dict
 from .laws import InterfaceLaw, law_from_dict
 from .materials import Material, check_analysis, material_from_dict
 
@@ -65,6 +65,14 @@ class Body:
         for h in self.holes:
             inside &= ~h.contains(points, -tol) if tol > 0 else ~h.contains(points)
         return inside
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Bounding box of the shape, clipped by ``within``."""
+        lo, hi = (np.asarray(v, dtype=float) for v in self.shape.bounds())
+        if self.within is not None:
+            wlo, whi = self.within.bounds()
+            lo, hi = np.maximum(lo, wlo), np.minimum(hi, whi)
+        return lo, hi
 
     def to_dict(self) -> dict:
         d = {"name": self.name, "material": self.material, "shape": self.shape.to_dict()}
@@ -147,8 +155,8 @@ class BoundaryCondition:
             raise CaseError(f"ramp must be one of {', '.join(RAMPS)}, got {self.ramp!r}")
         if self.kind not in BC_KINDS:
             raise CaseError(f"kind must be one of {', '.join(BC_KINDS)}, got {self.kind!r}")
-        if self.side not in SIDES:
-            raise CaseError(f"side must be one of {', '.join(SIDES)}, got {self.side!r}")
+        if self.side not in SIDES + (CURVE_SIDE,):
+            raise CaseError(f"side must be one of {', '.join(SIDES + (CURVE_SIDE,))}, got {self.side!r}")
         comps = tuple(self.components) if isinstance(self.components, (list, tuple, str)) else None
         if (not comps or any(not isinstance(c, str) or c not in COMPONENTS for c in comps)
                 or len(set(comps)) != len(comps)):
@@ -251,8 +259,8 @@ class Case:
         return self.materials[self.body(body_name).material]
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        lo = np.min([b.shape.bounds()[0] for b in self.bodies], axis=0)
-        hi = np.max([b.shape.bounds()[1] for b in self.bodies], axis=0)
+        lo = np.min([b.bounds()[0] for b in self.bodies], axis=0)
+        hi = np.max([b.bounds()[1] for b in self.bodies], axis=0)
         return lo, hi
 
     def interface_between(self, a: str, b: str) -> InterfacePair | None:
@@ -349,7 +357,10 @@ class Case:
                     bc.gradient(self.dimension)
                 elif bc.kind != "traction":
                     bc.vector(self.dimension)
-                if SIDES.index(bc.side) >= 2 * self.dimension:
+                if bc.side == CURVE_SIDE and (bc.body == ALL_BODIES or
+                                              self.body(bc.body).shape.kind not in ("circle", "ellipse")):
+                    raise CaseError(f"side {CURVE_SIDE!r} is the curve of a circle or ellipse body, got body {bc.body!r}")
+                if bc.side in SIDES and SIDES.index(bc.side) >= 2 * self.dimension:
                     raise CaseError(f"side {bc.side!r} does not exist in {self.dimension}D")
                 if bc.body != ALL_BODIES and not hasattr(self.body(bc.body).shape, "edge_mask"):
                     raise CaseError(f"body {bc.body!r} has a {self.body(bc.body).shape.kind} shape without named sides")

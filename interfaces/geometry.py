@@ -17,6 +17,8 @@ import numpy as np
 from .errors import CaseError, build_tagged, check_number
 
 SIDES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
+CURVE_SIDE = "boundary"
+"""The one side of a circle or ellipse: its whole curve (e.g. the outer surface of a composite sphere)."""
 
 
 class Shape:
@@ -251,6 +253,18 @@ class Ellipse(Shape):
         w = -p[:, 0] * math.sin(t) + p[:, 1] * math.cos(t)
         return (u / (self.a + tol)) ** 2 + (w / (self.b + tol)) ** 2 <= 1.0
 
+    def edge_mask(self, points, side: str, tol: float) -> np.ndarray:
+        """Points within ``tol`` of the curve (side ``"boundary"``, the only side of an ellipse)."""
+        _curve_side(side, self.kind)
+        p = self._points(points) - [self.cx, self.cy]
+        t = math.radians(self.angle)
+        u = p[:, 0] * math.cos(t) + p[:, 1] * math.sin(t)
+        w = -p[:, 0] * math.sin(t) + p[:, 1] * math.cos(t)
+        # distance to the curve to first order: |F| / |grad F| with F = (u/a)^2 + (w/b)^2 - 1
+        F = (u / self.a) ** 2 + (w / self.b) ** 2 - 1.0
+        g = 2.0 * np.hypot(u / self.a ** 2, w / self.b ** 2)
+        return np.abs(F) <= tol * np.maximum(g, 1e-300)
+
     def bounds(self):
         t = math.radians(self.angle)
         hx = math.hypot(self.a * math.cos(t), self.b * math.sin(t))
@@ -276,8 +290,19 @@ class Circle(Shape):
         p = self._points(points)
         return np.hypot(p[:, 0] - self.cx, p[:, 1] - self.cy) <= self.r + tol
 
+    def edge_mask(self, points, side: str, tol: float) -> np.ndarray:
+        """Points within ``tol`` of the circle (side ``"boundary"``, the only side of a circle)."""
+        _curve_side(side, self.kind)
+        p = self._points(points)
+        return np.abs(np.hypot(p[:, 0] - self.cx, p[:, 1] - self.cy) - self.r) <= tol
+
     def bounds(self):
         return np.array([self.cx - self.r, self.cy - self.r]), np.array([self.cx + self.r, self.cy + self.r])
+
+
+def _curve_side(side: str, kind: str) -> None:
+    if side != CURVE_SIDE:
+        raise CaseError(f"side of a {kind} must be {CURVE_SIDE!r} (its whole curve), got {side!r}")
 
 
 @_register

@@ -15,11 +15,15 @@ their Result diagnostics.
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 KINDS = ("auto", "pardiso", "superlu")
+ORDERINGS = (None, "minimum_degree", "metis")
+_PARDISO_ORDERING = {"minimum_degree": 0, "metis": 2}    # PARDISO iparm(2)
 
 
 class SingularMatrixError(RuntimeError):
@@ -38,11 +42,28 @@ def _load_pardiso():
     if not _PARDISO_CLASS:
         try:
             from pypardiso import PyPardisoSolver
-            PyPardisoSolver(mtype=-2)   # raises when MKL's mkl_rt cannot be found
+            probe = PyPardisoSolver(mtype=-2)   # raises when MKL's mkl_rt cannot be found
+            # pypardiso searches sys.prefix for mkl_rt in every constructor (~0.4 s each) unless
+            # PYPARDISO_MKL_RT names it: record the library it found, once
+            os.environ.setdefault("PYPARDISO_MKL_RT", probe.libmkl._name)
             _PARDISO_CLASS.append(PyPardisoSolver)
         except Exception:               # ImportError, OSError from ctypes
             _PARDISO_CLASS.append(None)
     return _PARDISO_CLASS[0]
+
+
+def _upper_triangle(A: sp.csr_matrix) -> sp.csr_matrix:
+    """The upper triangle (diagonal included) of a csr matrix, rows sorted, duplicates summed:
+    one mask over the stored entries (scipy's triu goes through coo and back, 3x slower)."""
+    if not A.has_canonical_format:       # sort a copy: callers may rely on their entry order
+        A = A.copy()
+        A.sum_duplicates()
+    n = A.shape[0]
+    rows = np.repeat(np.arange(n, dtype=A.indices.dtype), np.diff(A.indptr))
+    keep = A.indices >= rows
+    indptr = np.zeros(n + 1, dtype=A.indptr.dtype)
+    np.cumsum(np.bincount(rows[keep], minlength=n), out=indptr[1:])
+    return sp.csr_matrix((A.data[keep], A.indices[keep], indptr), shape=A.shape)
 
 
 class DirectSolver:
@@ -52,17 +73,28 @@ class DirectSolver:
     unavailable) or ``"superlu"``. ``positive_definite=True`` lets PARDISO use Cholesky
     (matrix type 2); the default is symmetric indefinite LDL^T (type -2), needed for the
     saddle points of negative interface parameters (002 Eq 52).
+
+    ``ordering`` (PARDISO only): ``None`` keeps MKL's defaults (nested dissection by
+    METIS); ``"minimum_degree"`` makes the symbolic analysis ~2.5x faster on the 2D FEM
+    matrices here (264k equations: 0.8 s instead of 2.2 s) at equal factorisation time;
+    ``"metis"`` asks for nested dissection explicitly. Either explicit choice also sets
+    Bunch-Kaufman pivoting with 1e-8 pivot perturbation (MKL's symmetric defaults).
     """
 
-    def __init__(self, kind: str = "auto", positive_definite: bool = False):
+    def __init__(self, kind: str = "auto", positive_definite: bool = False, ordering: str | None = None):
         if kind not in KINDS:
             raise ValueError(f"solver must be one of {', '.join(KINDS)}, got {kind!r}")
+        if ordering not in ORDERINGS:
+            raise ValueError(f"ordering must be one of {', '.join(map(str, ORDERINGS))}, got {ordering!r}")
         cls = _load_pardiso() if kind in ("auto", "pardiso") else None
         if kind == "pardiso" and cls is None:
             raise ValueError("solver 'pardiso' is not available here (pip install pypardiso); "
                              "use 'auto' or 'superlu'")
         self.name = "pardiso" if cls is not None else "superlu"
         self._pardiso = cls(mtype=2 if positive_definite else -2) if cls is not None else None
+        if self._pardiso is not None and ordering is not None:
+            for i, value in ((1, 1), (2, _PARDISO_ORDERING[ordering]), (10, 8), (21, 1)):
+                self._pardiso.set_iparm(i, value)       # iparm(1) = 1: use the values given
         self._pattern: tuple[np.ndarray, np.ndarray] | None = None
         self._upper: sp.csr_matrix | None = None
         self._lu = None
@@ -82,8 +114,7 @@ class DirectSolver:
         self.stats["factorizations"] += 1
 
     def _factorize_pardiso(self, A: sp.csr_matrix) -> None:
-        upper = sp.triu(A, format="csr")
-        upper.sort_indices()
+        upper = _upper_triangle(A)
         # PARDISO needs every diagonal entry stored, even a zero one
         missing = np.flatnonzero(upper.diagonal() == 0)
         if missing.size:
@@ -158,4 +189,4 @@ class DirectSolver:
         self.release()
 
 
-__all__ = ["DirectSolver", "SingularMatrixError", "pardiso_available", "KINDS"]
+__all__ = ["DirectSolver", "SingularMatrixError", "pardiso_available", "KINDS", "ORDERINGS"]

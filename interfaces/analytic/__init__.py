@@ -6,6 +6,7 @@
 * normal-incidence wave energy transmission through a spring interface
   (002 Eq 48, ERRATA 6, and the general two-material form; Eq 49 pulse);
 * composite-spheres bulk modulus with a spring interface (000 Sec 3, Hashin);
+* composite-cylinders transverse (plane-strain) bulk modulus with a spring interface;
 * interphase -> interface parameters (002 Eq 52).
 
 ``registry.MODELS`` / ``registry.PROFILES`` map the model names used in
@@ -13,6 +14,8 @@
 ``solve(case)`` returns a :class:`interfaces.Result` with ``method="analytic"``.
 Units: mm, N, MPa, s, tonne/mm^3; Dn, Dt in MPa/mm.
 """
+from interfaces.analytic.composite_cylinders import (CompositeCylinders, composite_cylinders_bulk_modulus,
+                                                      plane_strain_bulk_modulus)
 from interfaces.analytic.composite_spheres import (CompositeSpheres, bulk_shear_from_young_poisson,
                                                     composite_spheres_bulk_modulus, hashin_bulk_modulus,
                                                     sphere_in_cube_volume_fraction)
@@ -29,6 +32,7 @@ from interfaces.analytic.waves import (bar_wave_speed, dilatational_wave_speed, 
                                        wave_transmission, wave_transmission_identical)
 
 __all__ = [
+    "CompositeCylinders", "composite_cylinders_bulk_modulus", "plane_strain_bulk_modulus",
     "CompositeSpheres", "bulk_shear_from_young_poisson", "composite_spheres_bulk_modulus",
     "hashin_bulk_modulus", "sphere_in_cube_volume_fraction",
     "DoubleCantileverBeam", "dcb_compliance", "dcb_deflection", "dcb_kb_from_stiffness", "dcb_stiffness",

@@ -76,6 +76,35 @@ def hashin_bulk_modulus(K_p: float, K_m: float, G_m: float, phi: float) -> float
     return K_m + phi * (K_p - K_m) / (1.0 + (1.0 - phi) * (K_p - K_m) / (K_m + 4.0 * G_m / 3.0))
 
 
+def series_inverse_modulus(K: float, d: float, a: float, Dn: float) -> float:
+    """1/K_e = 1/K + d/(a Dn) (1/MPa): an inclusion of radius a and modulus K in series with a
+    spring interface Dn (d = 3 for a sphere's bulk modulus, 2 for a cylinder's plane-strain
+    one); inf when debonded (Dn = 0), 1/K when perfect."""
+    if Dn == 0.0:
+        return math.inf
+    return 1.0 / K + (0.0 if math.isinf(Dn) else d / (a * Dn))
+
+
+def modulus_from_inverse(s: float) -> float:
+    """K_e from 1/K_e: 0 for a debonded inclusion (inf), inf at the rigid-interphase limit (0)."""
+    return 0.0 if math.isinf(s) else (math.inf if s == 0.0 else 1.0 / s)
+
+
+def check_coated_inclusion(model, moduli: tuple[str, ...], inclusion: str, d: float) -> None:
+    """Validate the fields of a frozen composite sphere/cylinder in place: positive ``moduli``
+    and radius a, 0 <= phi < 1, and Dn (inf, 0, or negative down to the rigid-interphase
+    limit 1/K + d/(a Dn) >= 0 of the ``inclusion`` modulus K; 002 Eq 52)."""
+    set_ = lambda k, v: object.__setattr__(model, k, v)  # noqa: E731 (frozen dataclass)
+    for name in moduli + ("a",):
+        set_(name, positive(name, getattr(model, name)))
+    set_("phi", check_number("phi", model.phi, low=0.0, high=1.0, high_open=True))
+    set_("Dn", interface_stiffness("Dn", model.Dn, allow_negative=True))
+    K = getattr(model, inclusion)
+    if model.Dn < 0.0 and series_inverse_modulus(K, d, model.a, model.Dn) < 0.0:
+        raise CaseError(f"Dn = {model.Dn:g} MPa/mm is beyond the rigid-interphase limit: a negative Dn must "
+                        f"satisfy 1/{inclusion} + {d:g}/(a Dn) >= 0, i.e. Dn <= {-d * K / model.a:g} MPa/mm")
+
+
 @dataclass(frozen=True)
 class CompositeSpheres:
     """One composite sphere: particle (K_p, radius a) in a matrix shell (K_m, G_m), phi = (a/b)^3,
@@ -89,15 +118,7 @@ class CompositeSpheres:
     Dn: float = math.inf
 
     def __post_init__(self) -> None:
-        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 (frozen dataclass)
-        for name in ("K_p", "K_m", "G_m", "a"):
-            set_(name, positive(name, getattr(self, name)))
-        set_("phi", check_number("phi", self.phi, low=0.0, high=1.0, high_open=True))
-        set_("Dn", interface_stiffness("Dn", self.Dn, allow_negative=True))
-        if self.Dn < 0.0 and self.inverse_effective_particle_modulus < 0.0:
-            raise CaseError(f"Dn = {self.Dn:g} MPa/mm is beyond the rigid-interphase limit: a "
-                            f"negative Dn must satisfy 1/K_p + 3/(a Dn) >= 0, i.e. "
-                            f"Dn <= {-3.0 * self.K_p / self.a:g} MPa/mm")
+        check_coated_inclusion(self, ("K_p", "K_m", "G_m"), "K_p", 3.0)
 
     @property
     def b(self) -> float:
@@ -107,15 +128,12 @@ class CompositeSpheres:
     @property
     def inverse_effective_particle_modulus(self) -> float:
         """1/K_e = 1/K_p + 3/(a Dn) (1/MPa): particle and interface in series."""
-        if self.Dn == 0.0:
-            return math.inf
-        return 1.0 / self.K_p + (0.0 if math.isinf(self.Dn) else 3.0 / (self.a * self.Dn))
+        return series_inverse_modulus(self.K_p, 3.0, self.a, self.Dn)
 
     @property
     def effective_particle_modulus(self) -> float:
         """K_e (MPa); 0 for a debonded particle, inf at the rigid-interphase limit."""
-        s = self.inverse_effective_particle_modulus
-        return 0.0 if math.isinf(s) else (math.inf if s == 0.0 else 1.0 / s)
+        return modulus_from_inverse(self.inverse_effective_particle_modulus)
 
     @property
     def bulk_modulus(self) -> float:

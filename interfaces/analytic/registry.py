@@ -26,6 +26,9 @@ Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
   a (particle radius); phi, or b (outer radius), or cube_side [+ octant = False];
   Dn = inf; Dt, G_p accepted and unused (spherical symmetry); profile options
   eps0 = 1, n_points = 201.
+* ``composite_cylinders`` (plane strain, transverse bulk modulus): K_p, G_p or (E_p,
+  nu_p) of the fibre; K_m, G_m or (E_m, nu_m); a (fibre radius); phi or b; Dn = inf;
+  Dt accepted and unused (axial symmetry).
 """
 from __future__ import annotations
 
@@ -38,6 +41,7 @@ import numpy as np
 from interfaces.analytic._checks import CaseError, interface_stiffness, positive
 from interfaces.analytic.composite_spheres import (CompositeSpheres, bulk_shear_from_young_poisson,
                                                     sphere_in_cube_volume_fraction)
+from interfaces.analytic.composite_cylinders import CompositeCylinders, plane_strain_bulk_modulus
 from interfaces.analytic.dcb import DoubleCantileverBeam
 from interfaces.analytic.dls import DoubleLapShear
 from interfaces.analytic.waves import impedance, pulse_transmission, wave_reflection, wave_transmission
@@ -304,7 +308,7 @@ _CSA = {"K_p": None, "G_p": None, "E_p": None, "nu_p": None, "K_m": None, "G_m":
         "octant": False, "Dn": _INF, "Dt": None, "eps0": 1.0, "n_points": 201}
 
 
-def _moduli(p: dict[str, Any], phase: str) -> tuple[float, float | None]:
+def _moduli(p: dict[str, Any], phase: str, model: str = "composite_spheres") -> tuple[float, float | None]:
     K, G, E, nu = (p[f"{k}_{phase}"] for k in ("K", "G", "E", "nu"))
     if E is not None or nu is not None:
         if K is not None or G is not None:
@@ -316,7 +320,7 @@ def _moduli(p: dict[str, Any], phase: str) -> tuple[float, float | None]:
         nu = check_number(f"nu_{phase}", nu, low=-1.0, high=0.5, low_open=True, high_open=True)
         return bulk_shear_from_young_poisson(E, nu)
     if K is None:
-        raise CaseError(f"composite_spheres needs analytic.K_{phase} (or E_{phase} and nu_{phase})")
+        raise CaseError(f"{model} needs analytic.K_{phase} (or E_{phase} and nu_{phase})")
     return K, G
 
 
@@ -366,21 +370,69 @@ def composite_spheres_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     m, p = _csa(params)
     if m.phi == 0.0:
         raise CaseError("analytic.phi = 0 has no finite shell to plot; use phi > 0")
+    return _radial_profile(m, p)
+
+
+def _radial_profile(m, p: dict[str, Any]) -> dict[str, dict[str, np.ndarray]]:
+    """u_r and sigma_rr of a composite sphere or cylinder on r in [0, b], both sides of r = a."""
     n = _n_points(p["n_points"])
-    r = np.concatenate([np.linspace(0.0, m.a, n // 2), np.nextafter(m.a, np.inf) +
-                        np.linspace(0.0, m.b - m.a, n - n // 2)])
-    r = np.minimum(r, m.b)
+    r = np.minimum(np.concatenate([np.linspace(0.0, m.a, n // 2),
+                                   np.nextafter(m.a, np.inf) + np.linspace(0.0, m.b - m.a, n - n // 2)]), m.b)
     return {"radial": {"r": r, "u_r": m.radial_displacement(r, p["eps0"]),
                        "sigma_rr": m.radial_stress(r, p["eps0"])}}
 
 
-_PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA)
+# ---- composite cylinders (plane strain) ------------------------------------------
+_CCA = {"K_p": None, "G_p": None, "E_p": None, "nu_p": None, "K_m": None, "G_m": None,
+        "E_m": None, "nu_m": None, "a": ..., "phi": None, "b": None, "Dn": _INF, "Dt": None,
+        "eps0": 1.0, "n_points": 201}
+
+
+def _cca(params: dict[str, Any]) -> tuple[CompositeCylinders, dict[str, Any]]:
+    p = _take(params, "composite_cylinders", _CCA)
+    if p["Dt"] is not None:  # accepted for cases with Dn = Dt; it does not enter the transverse dilatation
+        interface_stiffness("Dt", p["Dt"], allow_negative=True)
+    (K_p, G_p), (K_m, G_m) = _moduli(p, "p", "composite_cylinders"), _moduli(p, "m", "composite_cylinders")
+    if G_p is None or G_m is None:
+        raise CaseError("composite_cylinders needs analytic.G_p and G_m (or E and nu of each phase)")
+    a = positive("a", p["a"])
+    given = [k for k in ("phi", "b") if p[k] is not None]
+    if len(given) != 1:
+        raise CaseError(f"composite_cylinders needs exactly one of analytic.phi, analytic.b, got {given or 'none'}")
+    if p["b"] is not None and positive("b", p["b"]) <= a:
+        raise CaseError(f"analytic.b must be > a = {a:g} mm, got {p['b']:g}")
+    phi = p["phi"] if p["phi"] is not None else (a / p["b"]) ** 2
+    return CompositeCylinders(plane_strain_bulk_modulus(K_p, G_p), plane_strain_bulk_modulus(K_m, G_m),
+                              G_m, phi, a, p["Dn"]), p
+
+
+@_named
+def composite_cylinders(**params) -> dict[str, float]:
+    """Transverse (plane-strain) bulk modulus of composite cylinders with a spring interface."""
+    m, _ = _cca(params)
+    perfect = CompositeCylinders(m.k_f, m.k_m, m.G_m, m.phi, m.a, _INF).bulk_modulus
+    debonded = CompositeCylinders(m.k_f, m.k_m, m.G_m, m.phi, m.a, 0.0).bulk_modulus
+    return {"bulk_modulus": m.bulk_modulus, "bulk_modulus_perfect": perfect, "bulk_modulus_debonded": debonded,
+            "effective_fibre_modulus": m.effective_fibre_modulus, "phi": m.phi}
+
+
+@_named
+def composite_cylinders_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
+    """Radial displacement and stress through fibre and matrix for u(b) = eps0 b."""
+    m, p = _cca(params)
+    if m.phi == 0.0:
+        raise CaseError("analytic.phi = 0 has no finite matrix cylinder to plot; use phi > 0")
+    return _radial_profile(m, p)
+
+
+_PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA) | set(_CCA)
 
 MODELS: dict[str, Callable[..., dict[str, float]]] = {
     "dls_shear_lag": dls_shear_lag,
     "dcb_beam_foundation": dcb_beam_foundation,
     "wave_transmission": wave_transmission_model,
     "composite_spheres": composite_spheres,
+    "composite_cylinders": composite_cylinders,
 }
 
 PROFILES: dict[str, Callable[..., dict[str, dict[str, np.ndarray]]]] = {
@@ -388,6 +440,7 @@ PROFILES: dict[str, Callable[..., dict[str, dict[str, np.ndarray]]]] = {
     "dcb_beam_foundation": dcb_profiles,
     "wave_transmission": wave_profiles,
     "composite_spheres": composite_spheres_profiles,
+    "composite_cylinders": composite_cylinders_profiles,
 }
 
 

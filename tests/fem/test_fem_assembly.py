@@ -14,7 +14,9 @@ def _cases():
     wood = TransverselyIsotropicElastic(E_A=10000, E_T=1000, G_A=500, nu_A=0.2, fiber=(0.6, 0.8))
     axi = Case(name="axi", analysis="axisymmetric", materials={"w": wood, "s": IsotropicElastic(E=200.0, nu=0.3)},
                bodies=[Body("core", Rectangle(0, 0, 1.0, 2.0), "w"), Body("sleeve", Rectangle(1.0, 0, 0.5, 2.0), "s")])
-    return [(dls(Dt=5.0), 0.3), (bimaterial_square(interface="diagonal"), 0.25), (axi, 0.25)]
+    from cases.curved import composite_spheres, inclusion   # gmsh: curved 6-node triangles
+    return [(dls(Dt=5.0), 0.3), (bimaterial_square(interface="diagonal"), 0.25), (axi, 0.25),
+            (inclusion(shape="ellipse", width=4.0), 0.5), (composite_spheres(), 0.2)]
 
 
 @pytest.mark.parametrize("case,h", _cases())

@@ -255,6 +255,8 @@ def test_result_outputs_profiles_fields_and_vtk(tmp_path):
 def test_bad_input_is_rejected_with_clear_messages():
     case = dls(Dt=10.0)
     with pytest.raises(CaseError, match="unknown"):
+        fem.solve(case, h=0.3, preconditioner="ilu")
+    with pytest.raises(CaseError, match="solver must be one of auto, pardiso, superlu"):
         fem.solve(case, h=0.3, solver="cg")
     with pytest.raises(CaseError, match="order"):
         fem.solve(case, h=0.3, order=3)
@@ -267,7 +269,9 @@ def test_bad_input_is_rejected_with_clear_messages():
     disc = Case(name="c", analysis="plane_strain", materials={"m": IsotropicElastic(E=1.0, nu=0.3)},
                 bodies=[Body("c", Circle(0, 0, 1.0), "m")])
     with pytest.raises(CaseError, match="rectangles and polygons"):
-        fem.solve(disc, h=0.3)
+        fem.solve(disc, h=0.3, mesher="structured")      # curved shapes are meshed by gmsh
+    with pytest.raises(CaseError, match="mesher must be one of auto, structured, gmsh"):
+        fem.solve(disc, h=0.3, mesher="delaunay")
 
 
 @pytest.mark.parametrize("interface", ["vertical", "horizontal", "diagonal"])

@@ -35,6 +35,19 @@ def test_solves_and_counts_negative_pivots(kind):
     assert got in (expected, -1) and (kind == "superlu" or got == expected)
 
 
+@pytest.mark.parametrize("ordering", ["minimum_degree", "metis"])
+def test_explicit_orderings_keep_the_inertia(ordering):
+    A = (_laplacian(20) - 0.5 * sp.identity(400)).tocsr()
+    expected = int(np.sum(np.linalg.eigvalsh(A.toarray()) < 0))
+    s = DirectSolver("auto", ordering=ordering)
+    s.factorize(A)
+    b = np.ones(400)
+    assert np.allclose(A @ s.solve(b), b, atol=1e-9)
+    assert s.negative_pivots() in ((expected,) if s.name == "pardiso" else (expected, -1))
+    with pytest.raises(ValueError, match="ordering must be one of"):
+        DirectSolver("auto", ordering="rcm")
+
+
 @pytest.mark.parametrize("kind", KINDS)
 def test_symbolic_analysis_reused_for_same_pattern(kind):
     A = _laplacian(10)
