@@ -99,7 +99,8 @@ UNITS = {"Dt": "MPa/mm", "Dn": "MPa/mm", "D": "MPa/mm", "Dn_compression": "MPa/m
          "depth": "mm", "length": "mm", "a": "mm", "h": "mm", "radius": "mm", "side": "mm",
          "x_interface": "mm", "shift_x": "mm", "shift_y": "mm", "zone_y": "mm", "fem_h": "mm",
          "mpm_cell": "mm", "amplitude": "mm", "size": "mm", "E": "MPa", "stress": "MPa", "load": "N",
-         "P": "N", "f": "Hz", "angle": "deg", "rho_g_cm3": "g/cm^3", "strain": "-"}
+         "P": "N", "f": "Hz", "angle": "deg", "rho_g_cm3": "g/cm^3", "strain": "-",
+         "b": "mm", "volume_fraction": "-"}
 
 #: settings that run every method of a case in seconds (for trying things out)
 CHEAP = {"dls": {"fem_h": 0.5, "mpm_cell": 0.5}, "two_layer": {"fem_h": 1.0, "mpm_cell": 1.0},
