@@ -118,13 +118,14 @@ class Loads:
 def _loads_and_elimination(disc, pairs):
     """Per-condition load vectors and prescribed-displacement fields, and the elimination
     (its T is the same for every condition: the prescribed DOF set does not change)."""
-    f_all, presc_all, _ = apply_boundary_conditions(disc)
-    elim = build_elimination(disc.ndof, pairs, prescribed=presc_all, values=np.zeros(len(presc_all)))
-    loads = Loads([], [], [], [])
     for i, bc in enumerate(disc.case.boundary_conditions):
         if bc.kind == "velocity":
             raise CaseError(f"boundary_conditions[{i}].kind: transient fem prescribes displacements, "
                             "not velocities; give the displacement history (kind 'displacement' with a ramp)")
+    f_all, presc_all, _ = apply_boundary_conditions(disc)
+    elim = build_elimination(disc.ndof, pairs, prescribed=presc_all, values=np.zeros(len(presc_all)))
+    loads = Loads([], [], [], [])
+    for bc in disc.case.boundary_conditions:
         sub = dataclasses.replace(disc, case=disc.case.replace(boundary_conditions=[bc]))
         f, d, v = apply_boundary_conditions(sub)
         if np.any(f != 0.0):
