@@ -39,27 +39,31 @@ def _energy(r):
 
 def test_fem_transmitted_energy_matches_the_exact_pulse_solution():
     """Newmark average acceleration, consistent mass, Q1 at h = 1 mm (30 elements per
-    pulse): measured within 0.0016 of the exact value on the 002 measure (peak ratio
-    squared) and within 0.0012 on the pulse energy ratio, T = 0.05 ... 0.95."""
+    pulse), T = 0.05 ... 0.95: measured within 0.0032 of the exact value on the 002
+    measure (peak ratio squared) and within 0.0012 on the pulse energy ratio."""
     for Dn in DN_VALUES:
         case = _wave(Dn)
         r, a = fem.solve(case), analytic_solve(case)
         assert r.quantities["transmitted_energy"] == pytest.approx(
-            a.quantities["transmitted_energy"], abs=0.004), Dn
+            a.quantities["transmitted_energy"], abs=0.006), Dn
         assert r.quantities["pulse_transmitted_energy"] == pytest.approx(
-            a.quantities["pulse_transmitted_energy"], abs=0.004), Dn
+            a.quantities["pulse_transmitted_energy"], abs=0.003), Dn
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("scheme", ["newmark", "central"])
 def test_fem_transmitted_energy_at_half_millimetre(scheme):
-    """h = 0.5 mm: within 0.0008 (Newmark, consistent mass) of the exact pulse solution;
-    central differences with lumped mass at 0.9 of the stable step likewise."""
+    """h = 0.5 mm, largest error over the Dn values (peak measure / pulse energy):
+    Newmark with consistent mass 0.0008 / 0.0003, central differences with lumped mass
+    at 0.9 of the stable step 0.0018 / 0.0004 (h = 1: 0.0032 / 0.0012 and 0.0057 /
+    0.0018; h = 0.25: 0.0001 / 0.0001 and 0.0007 / 0.0001)."""
     for Dn in DN_VALUES:
         case = _wave(Dn, h=0.5)
         r, a = fem.solve(case, dynamics=scheme), analytic_solve(case)
-        for key in ("transmitted_energy", "pulse_transmitted_energy"):
-            assert r.quantities[key] == pytest.approx(a.quantities[key], abs=0.003), (Dn, key)
+        assert r.quantities["transmitted_energy"] == pytest.approx(
+            a.quantities["transmitted_energy"], abs=0.004), Dn
+        assert r.quantities["pulse_transmitted_energy"] == pytest.approx(
+            a.quantities["pulse_transmitted_energy"], abs=0.001), Dn
 
 
 @pytest.mark.parametrize("Dn", [math.inf, 3.0e4])
