@@ -21,8 +21,11 @@ the integrator (no derivative of the ramp is needed). Energies: kinetic 1/2 v.M 
 strain 1/2 u.K u, interface 1/2 J.K_J J, and the work of the loads and of the
 reactions at prescribed DOFs (trapezoidal in time, exact for Newmark average
 acceleration). Stress gauges of ``measurements.transmitted_energy`` give the 002
-Sec 3.3 measures (``interfaces.wave_gauges``). Bilinear normal laws are refused (the
-active set would have to follow the wave step by step; MPM applies them).
+Sec 3.3 measures (``interfaces.wave_gauges``). The bilinear law of 002 Fig 10 "NL"
+(Dn in tension, perfect in compression) runs with central differences: the tension
+spring is in K, and node pairs that would interpenetrate are closed on the explicit
+step by forward-increment Lagrange multipliers (``_close``); other bilinear laws, and
+bilinear laws with Newmark, are refused.
 Units: mm, N, MPa, s, tonne/mm^3.
 """
 from __future__ import annotations
@@ -45,6 +48,7 @@ from .assembly import bulk_stiffness
 from .boundary import apply_boundary_conditions
 from .constraints import build_elimination
 from .discretization import discretize
+from .interface_mesh import pair_index
 
 SCHEMES = ("newmark", "central")
 MASSES = ("consistent", "lumped")
@@ -213,9 +217,7 @@ def solve(case, opts: dict, timings: dict, warnings: list) -> Result:
     moduli = [np.asarray(case.material_of(b.name).stiffness(case.analysis), float) for b in case.bodies]
     K_bulk = bulk_stiffness(disc.basis, disc.element_body, moduli, disc.thickness, disc.axisymmetric)
     ielems = _interface_elements(case, disc, warnings)
-    if any(el.bilinear for el in ielems):
-        raise CaseError("fem: transient analysis does not support bilinear normal interface laws "
-                        "(the tension/compression branch would change within the wave); use mpm")
+    _check_bilinear(ielems, scheme)
     pairs, jumps, K_jump, _ = _interface_operators(disc, ielems)
     elim, loads, _ = _loads_and_elimination(disc, pairs)
     M = mass_matrix(disc, [case.material_of(b.name).rho for b in case.bodies], mass_kind == "lumped")
@@ -240,7 +242,9 @@ def solve(case, opts: dict, timings: dict, warnings: list) -> Result:
     spec = gauge_spec(case) if "transmitted_energy" in case.measurements else None
     rows = gauge_rows(disc, spec) if spec else {}
     t0 = time.perf_counter()
-    run = _integrate(scheme, disc, K, Kr, Mr, M, elim, loads, jumps, K_jump, K_bulk, dt, nsteps, rows)
+    closing = _closing_rows(ielems, pairs)
+    run = _integrate(scheme, disc, K, Kr, Mr, M, elim, loads, jumps, K_jump, K_bulk, dt, nsteps, rows,
+                     closing)
     timings["solve"] = time.perf_counter() - t0
 
     q = {"strain_energy": run["strain"][-1], "interface_energy": run["interface"][-1],
@@ -273,7 +277,44 @@ def solve(case, opts: dict, timings: dict, warnings: list) -> Result:
                   timings=timings, diagnostics=diagnostics)
 
 
-def _integrate(scheme, disc, K, Kr, Mr, M, elim, loads, jumps, K_jump, K_bulk, dt, nsteps, rows):
+def _check_bilinear(ielems, scheme: str) -> None:
+    """Bilinear normal laws: only the 002 "NL" law (Dn in tension, perfect in compression)
+    with central differences (a contact constraint on the explicit step)."""
+    bilinear = [el for el in ielems if el.bilinear]
+    if not bilinear:
+        return
+    if scheme != "central" or any(np.any(np.isfinite(el.Dn_compression)) for el in bilinear):
+        raise CaseError("fem: transient analysis supports bilinear normal interface laws only as "
+                        "perfect in compression (Dn_compression = inf) with dynamics = 'central'; use "
+                        "that or mpm")
+
+
+def _closing_rows(ielems, pairs) -> np.ndarray:
+    """Rows of the normal jumps (J = jumps @ u) of node pairs on bilinear elements."""
+    rows = [2 * np.unique(pair_index(pairs, el.node_b)) for el in ielems if el.bilinear]
+    return np.unique(np.concatenate(rows)).astype(np.int64) if rows else np.zeros(0, np.int64)
+
+
+def _close(G, lu_M, rows, q, v, h, hdot):
+    """Perfect in compression (002 "NL"): node pairs whose normal jump would be negative
+    after the explicit step are closed, [u_n] = 0 and zero relative normal velocity, by
+    the smallest change of q and v in the mass metric (forward-increment Lagrange
+    multipliers: q -= M_r^-1 C^T (C M_r^-1 C^T)^-1 (C q + h)); open pairs keep the
+    tension spring."""
+    jn = G[rows] @ q + h[rows]
+    active = jn < 0.0
+    if not np.any(active):
+        return q, v
+    C = G[rows[active]]
+    X = lu_M.solve(np.ascontiguousarray(C.T.toarray()))
+    S = np.atleast_2d(C @ X)
+    q = q - X @ np.linalg.solve(S, jn[active])
+    v = v - X @ np.linalg.solve(S, C @ v + hdot[rows[active]])
+    return q, v
+
+
+def _integrate(scheme, disc, K, Kr, Mr, M, elim, loads, jumps, K_jump, K_bulk, dt, nsteps, rows,
+               closing=np.zeros(0, np.int64)):
     """Time loop in the reduced unknowns: u = T q + g(t), v = T q' + g'(t), a = T q'' + g''(t)
     with M_r q'' + K_r q = T^T (f - K g - M g''). Newmark average acceleration:
     (K_r + 4 M_r / dt^2) q+ = T^T (f+ - K g+ - M g''+) + M_r (4 (q + dt q') / dt^2 + q'');
@@ -286,6 +327,7 @@ def _integrate(scheme, disc, K, Kr, Mr, M, elim, loads, jumps, K_jump, K_bulk, d
     out = {k: np.zeros(nsteps + 1) for k in ("time", "kinetic", "strain", "interface", "work")}
     out["gauges"] = np.zeros((nsteps + 1, R.shape[0]))
     lu_M = spla.splu(Mr.tocsc())
+    G = (jumps @ T).tocsr()
     if scheme == "newmark":
         lu = spla.splu((Kr + (4.0 / dt ** 2) * Mr).tocsc())
 
@@ -323,6 +365,10 @@ def _integrate(scheme, disc, K, Kr, Mr, M, elim, loads, jumps, K_jump, K_bulk, d
         else:
             v_half = vq + 0.5 * dt * aq
             q = q + dt * v_half
+            if closing.size:
+                _, gd, _ = loads.prescribed(t, n)
+                q, v_half = _close(G, lu_M, closing, q, v_half, jumps @ loads.prescribed(t, n)[0],
+                                   jumps @ gd)
             b, gs = rhs(t)
             aq = lu_M.solve(b - Kr @ q)
             vq = v_half + 0.5 * dt * aq
