@@ -18,10 +18,8 @@ MPM applies the bilinear law at its multimaterial nodes). Writes
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import math
-from pathlib import Path
 
 import matplotlib
 matplotlib.use("Agg")
@@ -29,6 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from cases.registry import build  # noqa: E402
+from wave_args import parse  # noqa: E402 (docs/wave)
 from cases.sweep import sweep  # noqa: E402
 from interfaces.analytic.waves import pulse_transmission, wave_transmission  # noqa: E402
 
@@ -45,15 +44,7 @@ COLORS = {"L tensile": "tab:blue", "L compressive": "tab:green", "NL tensile": "
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--mpm-cell", type=float, default=0.5)
-    ap.add_argument("--fem-h", type=float, default=0.5)
-    ap.add_argument("--height", type=float, default=2.0)
-    ap.add_argument("--workers", type=int, default=1)
-    ap.add_argument("--out", default="docs/wave")
-    a = ap.parse_args()
-    out = Path(a.out)
-    out.mkdir(parents=True, exist_ok=True)
+    a, out = parse(__doc__, workers=(int, 1))
     rows = []
     fig, ax = plt.subplots(figsize=(7.0, 4.6))
     base = build("wave", height=a.height)

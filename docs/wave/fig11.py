@@ -13,9 +13,7 @@ interface for the transmitted and the reflected pulse), with the exact histories
 """
 from __future__ import annotations
 
-import argparse
 import csv
-from pathlib import Path
 
 import matplotlib
 matplotlib.use("Agg")
@@ -25,6 +23,7 @@ import numpy as np  # noqa: E402
 import fem  # noqa: E402
 import mpm  # noqa: E402
 from cases.registry import build  # noqa: E402
+from wave_args import parse  # noqa: E402 (docs/wave)
 from interfaces.analytic import solve as analytic_solve  # noqa: E402
 from interfaces.analytic.waves import pulse_histories  # noqa: E402
 
@@ -44,15 +43,7 @@ def shifted(gauges: dict, spec: dict, c: float) -> dict:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--Dn", type=float, default=24000.0)
-    ap.add_argument("--mpm-cell", type=float, default=0.5)
-    ap.add_argument("--fem-h", type=float, default=0.5)
-    ap.add_argument("--height", type=float, default=2.0)
-    ap.add_argument("--out", default="docs/wave")
-    a = ap.parse_args()
-    out = Path(a.out)
-    out.mkdir(parents=True, exist_ok=True)
+    a, out = parse(__doc__, Dn=(float, 24000.0))
     case = build("wave", Dn=a.Dn, mpm_cell=a.mpm_cell, fem_h=a.fem_h, height=a.height)
     spec = case.measurements["transmitted_energy"]
     c, Z, f = case.analytic["v"], case.analytic["rho"] * case.analytic["v"], case.analytic["f"]
