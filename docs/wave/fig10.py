@@ -77,7 +77,7 @@ def main() -> None:
     ax.set_title(f"002 Fig 10: half-sine pulse, f = {f / 1e3:g} kHz, uniaxial strain "
                  f"(MPM {a.mpm_cell:g} mm cells, FEM {a.fem_h:g} mm Q1)", fontsize=9)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper left")
+    ax.legend(fontsize=7, loc="lower right", ncol=2)
     fig.tight_layout()
     fig.savefig(out / "wave_fig10.png", dpi=130)
     with open(out / "wave_fig10.csv", "w", newline="") as fh:

@@ -71,7 +71,7 @@ def main() -> None:
     ax.axhline(0.0, color="0.5", lw=0.6)
     ax.set_xlabel("time since the front of each pulse passed its gauge (us)")
     ax.set_ylabel("sigma_xx (MPa)")
-    ax.set_title(f"002 Fig 11: tensile pulse, Dn = {a.Dn:g} MPa/mm, transmitted energy "
+    ax.set_title(f"002 Fig 11: tensile pulse, Dn = {a.Dn:g} MPa/mm; T "
                  f"exact {T_exact:.3f}, MPM {q[0]['transmitted_energy']:.3f}, FEM {q[1]['transmitted_energy']:.3f}",
                  fontsize=9)
     ax.grid(alpha=0.3)
