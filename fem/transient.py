@@ -49,6 +49,7 @@ from .boundary import apply_boundary_conditions
 from .constraints import build_elimination
 from .discretization import discretize
 from .interface_mesh import pair_index
+from .post import line_profile
 
 SCHEMES = ("newmark", "central")
 MASSES = ("consistent", "lumped")
@@ -272,8 +273,10 @@ def solve(case, opts: dict, timings: dict, warnings: list) -> Result:
     u = run["u"]
     fields = {"position": disc.mesh.p.T.copy(), "displacement": u[disc.basis.nodal_dofs].T.copy(),
               "velocity": run["v"][disc.basis.nodal_dofs].T.copy()}
+    profiles = {name: line_profile(case, disc.basis, u, seg, opts["line_points"])
+                for name, seg in case.lines.items()}
     timings["total"] = time.perf_counter() - t_start
-    return Result(method="fem", case_name=case.name, quantities=q, fields=fields,
+    return Result(method="fem", case_name=case.name, quantities=q, fields=fields, profiles=profiles,
                   timings=timings, diagnostics=diagnostics)
 
 
