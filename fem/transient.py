@@ -188,7 +188,7 @@ def stable_time_step(Kr: sp.csr_matrix, Mr: sp.csr_matrix) -> float:
     return 2.0 / math.sqrt(float(lam.max()))
 
 
-def _reduced(disc, ielems, K_bulk, pairs, jumps, K_jump, elim, M):
+def _reduced(K_bulk, jumps, K_jump, elim, M):
     """K = K_bulk + J^T K_J J (u space) and the reduced T^T K T, T^T M T."""
     K_int = (jumps.T @ (K_jump @ jumps)).tocsr()
     K = (K_bulk + K_int).tocsr()
@@ -222,23 +222,10 @@ def solve(case, opts: dict, timings: dict, warnings: list) -> Result:
     pairs, jumps, K_jump, _ = _interface_operators(disc, ielems)
     elim, loads, _ = _loads_and_elimination(disc, pairs)
     M = mass_matrix(disc, [case.material_of(b.name).rho for b in case.bodies], mass_kind == "lumped")
-    K, Kr, Mr = _reduced(disc, ielems, K_bulk, pairs, jumps, K_jump, elim, M)
+    K, Kr, Mr = _reduced(K_bulk, jumps, K_jump, elim, M)
     timings["assembly"] = time.perf_counter() - t_start
 
-    c_max = max(m.wave_speed(case.analysis) for m in case.materials.values())
-    h_min = float(np.min(np.ptp(disc.mesh.p[:, disc.mesh.t], axis=1)))
-    dt_limit = None
-    if scheme == "central":
-        dt_limit = stable_time_step(Kr, Mr)
-        dt = opts["dt"] if opts["dt"] is not None else opts["cfl"] * dt_limit
-        if dt > dt_limit:
-            raise CaseError(f"fem option dt = {dt:.4g} s exceeds the stable central-difference limit "
-                            f"2/omega_max = {dt_limit:.4g} s of this mesh: use dt <= {dt_limit:.4g} s "
-                            "or dynamics = 'newmark'")
-    else:
-        dt = opts["dt"] if opts["dt"] is not None else opts["cfl"] * h_min / c_max
-    nsteps = int(math.ceil(duration / dt - 1e-9))
-    dt = duration / nsteps
+    dt, nsteps, dt_limit = _time_step(case, disc, opts, Kr, Mr, duration)
 
     spec = gauge_spec(case) if "transmitted_energy" in case.measurements else None
     rows = gauge_rows(disc, spec) if spec else {}
@@ -278,6 +265,25 @@ def solve(case, opts: dict, timings: dict, warnings: list) -> Result:
     timings["total"] = time.perf_counter() - t_start
     return Result(method="fem", case_name=case.name, quantities=q, fields=fields, profiles=profiles,
                   timings=timings, diagnostics=diagnostics)
+
+
+def _time_step(case, disc, opts, Kr, Mr, duration: float) -> tuple[float, int, float | None]:
+    """(dt, steps, stable limit): central differences at cfl x 2/omega_max (a larger given
+    dt is refused), Newmark at cfl x h_min / c_max; dt shortened to divide the duration."""
+    dt_limit = None
+    if opts["dynamics"] == "central":
+        dt_limit = stable_time_step(Kr, Mr)
+        dt = opts["dt"] if opts["dt"] is not None else opts["cfl"] * dt_limit
+        if dt > dt_limit:
+            raise CaseError(f"fem option dt = {dt:.4g} s exceeds the stable central-difference limit "
+                            f"2/omega_max = {dt_limit:.4g} s of this mesh: use dt <= {dt_limit:.4g} s "
+                            "or dynamics = 'newmark'")
+    else:
+        c_max = max(m.wave_speed(case.analysis) for m in case.materials.values())
+        h_min = float(np.min(np.ptp(disc.mesh.p[:, disc.mesh.t], axis=1)))
+        dt = opts["dt"] if opts["dt"] is not None else opts["cfl"] * h_min / c_max
+    nsteps = int(math.ceil(duration / dt - 1e-9))
+    return duration / nsteps, nsteps, dt_limit
 
 
 def _check_bilinear(ielems, scheme: str) -> None:
@@ -369,9 +375,8 @@ def _integrate(scheme, disc, K, Kr, Mr, M, elim, loads, jumps, K_jump, K_bulk, d
             v_half = vq + 0.5 * dt * aq
             q = q + dt * v_half
             if closing.size:
-                _, gd, _ = loads.prescribed(t, n)
-                q, v_half = _close(G, lu_M, closing, q, v_half, jumps @ loads.prescribed(t, n)[0],
-                                   jumps @ gd)
+                g, gd, _ = loads.prescribed(t, n)
+                q, v_half = _close(G, lu_M, closing, q, v_half, jumps @ g, jumps @ gd)
             b, gs = rhs(t)
             aq = lu_M.solve(b - Kr @ q)
             vq = v_half + 0.5 * dt * aq
