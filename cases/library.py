@@ -239,7 +239,7 @@ def wave(Dn: float = 1.0e5, f: float = 100.0e3, amplitude: float = -1.0e-4, leng
     incident gauge after the incident pulse has passed, and the first echo at the
     transmitted gauge (from the far end, or re-reflected at the clamped left end)
     arrives 2 min(x_interface, length - x_t) / c after the transmitted pulse, 300 mm
-    (51 us, 4.6 tail time constants Z / (2 Dn) at Dn = 4000 MPa/mm, T = 0.05) by default.
+    (51 us, 4.3 tail time constants Z / (2 Dn) at Dn = 3800 MPa/mm, where T = 0.05) by default.
     Quantities: ``transmitted_energy`` as 002 measured it (the squared ratio of
     transmitted to incident peak stress, the reference's ``measure = "pulse_peak"``),
     ``pulse_transmitted_energy`` (energy-flux ratio int s_t^2 / int s_i^2 of the
