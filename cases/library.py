@@ -12,6 +12,7 @@ import numpy as np
 
 from interfaces import (Body, BoundaryCondition, Box, Case, CaseError, InterfacePair, IsotropicElastic,
                         LinearInterface, Polygon, Rectangle, Sphere, TransverselyIsotropicElastic)
+from interfaces.analytic.waves import dilatational_wave_speed
 from interfaces.errors import check_number
 from interfaces.laws import BilinearNormalInterface
 from interfaces.units import G_PER_CM3, MS
@@ -215,41 +216,73 @@ def dcb(Dn: float = math.inf, a: float = 25.0, length: float = 50.0, h: float = 
     )
 
 
-def wave(Dn: float = 1.0e5, f: float = 100.0e3, amplitude: float = -1.0e-4, length: float = 150.0,
-         height: float = 100.0, x_interface: float = 50.0, E: float = 410.0e3, nu: float = 0.28,
-         rho_g_cm3: float = 15.0, nonlinear: bool = False, mpm_cell: float = 1.0, mpm_ppc: int = 2) -> Case:
-    """Plane wave through an imperfect interface (002 Sec 3.3, Fig 10-11).
+def wave(Dn: float = 1.0e5, f: float = 100.0e3, amplitude: float = -1.0e-4, length: float = 350.0,
+         height: float = 5.0, x_interface: float = 150.0, gauge_offset: float = 25.0,
+         E: float = 410.0e3, nu: float = 0.28, rho_g_cm3: float = 15.0, nonlinear: bool = False,
+         mpm_cell: float = 1.0, mpm_ppc: int = 2, fem_h: float = 0.5) -> Case:
+    """Plane wave through an imperfect interface (002 Sec 3.3, Eq 48-49, Fig 10-11).
 
-    150 x 100 x 1 mm block, interface at x = 50 mm, E = 410 GPa, nu = 0.28,
-    rho = 15 g/cm^3 (v = 5235 m/s). The left edge gets the displacement pulse of
-    002 Eq 49, x(t) = x0/2 (1 - cos 2 pi f t) for t <= 1/(2f) (``amplitude`` = x0 < 0
-    for a tensile pulse). ``nonlinear``: Dn in tension, perfect in compression.
-    Reference: the exact transmission of this pulse through the spring interface,
-    measured as 002 did (squared ratio of transmitted to incident peak stress:
-    ``measure = "pulse_peak"``); Eq 48 (harmonic wave, ERRATA 6) is reported beside it
-    and differs from the pulse value by real physics (0.50 vs 0.57 at Dn = pi f Z).
-    Dynamic (MPM) only.
+    Model: uniaxial strain. A plane-strain strip with roller sides (v = 0 on y = 0 and
+    y = height) carries an exact 1D longitudinal wave at the dilatational speed
+    c = sqrt(E (1 - nu) / ((1 + nu)(1 - 2 nu) rho)) (5911 m/s for the tungsten of 002,
+    E = 410 GPa, nu = 0.28, rho = 15 g/cm^3), so the reference impedance is Z = rho c
+    (not the bar value rho sqrt(E / rho) that 002 Eq 48 prints), and the height does
+    not matter (002's block was 150 x 100 mm). The left edge gets the displacement of
+    002 Eq 49, x(t) = x0/2 (1 - cos 2 pi f t) for t <= 1/(2f), a single half-sine
+    stress pulse (``amplitude`` = x0 < 0: tensile). ``nonlinear``: the bilinear law of
+    002 Fig 10 "NL", Dn in tension and perfect in compression.
+
+    Gauges at ``gauge_offset`` before and after the interface. The length is chosen so
+    that no wave other than the incident pulse (incident gauge) and the first
+    transmitted pulse with its whole exponential tail (transmitted gauge) passes a
+    gauge before the measurement ends: the reflection from the interface reaches the
+    incident gauge after the incident pulse has passed, and the first echo at the
+    transmitted gauge (from the far end, or re-reflected at the clamped left end)
+    arrives 2 min(x_interface, length - x_t) / c after the transmitted pulse, 300 mm
+    (51 us, 4.3 tail time constants Z / (2 Dn) at Dn = 3800 MPa/mm, where T = 0.05) by default.
+    Quantities: ``transmitted_energy`` as 002 measured it (the squared ratio of
+    transmitted to incident peak stress, the reference's ``measure = "pulse_peak"``),
+    ``pulse_transmitted_energy`` (energy-flux ratio int s_t^2 / int s_i^2 of the
+    gauges) and ``incident_pulse_energy`` (N mm through the cross-section). Methods:
+    the exact pulse solution, MPM, and transient FEM (Q1 elements one strip high;
+    Newmark for the linear law, central differences for the bilinear one).
     """
     check_number("f", f, low=0, low_open=True)
     check_number("x_interface", x_interface, low=0, high=length, low_open=True, high_open=True)
     mat = IsotropicElastic(E=E, nu=nu, rho=rho_g_cm3 * G_PER_CM3)
+    c = dilatational_wave_speed(E, nu, mat.rho, "plane_strain")
+    pulse_length = c / (2.0 * f)
+    x_inc, x_tr = x_interface - gauge_offset, x_interface + gauge_offset
+    if not 0.5 * pulse_length < gauge_offset < min(x_interface, length - x_interface):
+        raise CaseError(f"gauge_offset must lie between half the pulse length ({0.5 * pulse_length:.4g} mm, "
+                        f"so the reflection passes the incident gauge after the pulse) and the distance "
+                        f"from the interface to the ends, got {gauge_offset:g}")
+    window = 2.0 * min(x_interface, length - x_tr)
+    if window <= pulse_length:
+        raise CaseError(f"length must leave the transmitted pulse {pulse_length:.4g} mm before the first "
+                        f"echo reaches its gauge; got an echo after {window:.4g} mm: lengthen the strip")
     law = BilinearNormalInterface(Dn_tension=Dn, Dt=math.inf) if nonlinear else LinearInterface(Dn=Dn, Dt=math.inf)
     bodies = [Body("incident", Rectangle(0.0, 0.0, x_interface, height), "tungsten"),
               Body("transmitted", Rectangle(x_interface, 0.0, length - x_interface, height), "tungsten")]
-    bcs = [BoundaryCondition("displacement", "incident", "xmin", ("x",), (amplitude,), ramp_time=1 / (2 * f), ramp="cosine")]
-    v = math.sqrt(E / mat.rho)
-    duration = (length - 0.25 * (length - x_interface)) / v  # pulse reaches the transmitted-side gauge
+    rollers = [BoundaryCondition("fixed", b.name, side, ("y",), (0.0,))
+               for b in bodies for side in ("ymin", "ymax")]
+    bcs = [BoundaryCondition("displacement", "incident", "xmin", ("x",), (amplitude,),
+                             ramp_time=1 / (2 * f), ramp="cosine")] + rollers
+    duration = (x_tr + window) / c  # the first echo reaches the transmitted gauge
+    discretization = {"mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "damping": "none", "max_time": duration}}
+    # transient FEM: Newmark; the bilinear law closes interpenetrating pairs on the explicit step
+    discretization["fem"] = {"element_size": [fem_h, height], "order": 1,
+                             "dynamics": "central" if nonlinear else "newmark"}
     return Case(
         name="wave", analysis="plane_strain", thickness=1.0,
-        description=f"Wave transmission (002 Sec 3.3), Dn = {Dn} MPa/mm, f = {f:g} Hz",
+        description=f"Wave transmission (002 Sec 3.3), uniaxial strain, Dn = {Dn} MPa/mm, f = {f:g} Hz",
         materials={"tungsten": mat}, bodies=bodies,
         interfaces=[InterfacePair("incident", "transmitted", law)],
         boundary_conditions=bcs,
-        measurements={"transmitted_energy": {"x_incident": 0.5 * x_interface, "x_interface": x_interface,
-                                             "x_transmitted": x_interface + 0.5 * (length - x_interface),
-                                             "duration": duration}},
-        discretization={"mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "damping": "none", "max_time": duration}},
-        analytic={"model": "wave_transmission", "Dn": Dn, "f": f, "rho": mat.rho, "E": E,
+        measurements={"transmitted_energy": {"x_incident": x_inc, "x_interface": x_interface,
+                                             "x_transmitted": x_tr, "duration": duration}},
+        discretization=discretization,
+        analytic={"model": "wave_transmission", "Dn": Dn, "f": f, "rho": mat.rho, "v": c,
                   "nonlinear": nonlinear, "pulse": "tensile" if amplitude < 0 else "compressive",
                   "measure": "pulse_peak"},
         reference="analytic",

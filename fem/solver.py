@@ -1,4 +1,6 @@
-"""``fem.solve(case)``: static linear FEM with imperfect interface elements (002 Sec 2).
+"""``fem.solve(case)``: static linear FEM with imperfect interface elements (002 Sec 2);
+dynamic cases (a ``transmitted_energy`` wave measurement) or ``dynamics = newmark |
+central`` go to the transient solver (``fem.transient``).
 
 Bodies are meshed on one structured grid (``fem.mesh``: quads, or triangles for 45-degree
 polygon edges), or by gmsh into curved 6-node triangles where shapes are curved
@@ -39,7 +41,7 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from interfaces.case import InterfacePair
-from interfaces.errors import CaseError, SolverError
+from interfaces.errors import CaseError, SolverError, check_number
 from interfaces.laws import LinearInterface
 from interfaces.result import Result
 from interfaces.sparse import KINDS as SOLVER_KINDS
@@ -69,6 +71,12 @@ OPTIONS = {
     "mesher": "auto (gmsh for curved shapes or off-grid polygon edges, else structured; default), structured or gmsh",
     "curved": "gmsh meshes: quadratic edges follow the curves (default True); False: straight-sided triangles",
     "solver": "sparse direct solver: auto (PARDISO when it loads, else SuperLU; default), pardiso or superlu",
+    "dynamics": "static, newmark (average acceleration, implicit) or central (explicit differences); "
+                "default newmark for a dynamic case (one with a transmitted_energy measurement), else static",
+    "mass": "transient mass matrix: consistent (default for newmark) or lumped (default and required for central)",
+    "dt": "transient time step in s (default: cfl x the stable limit for central, cfl x h / c for newmark)",
+    "cfl": "time-step fraction (default 0.5 for newmark, 0.9 for central)",
+    "duration": "transient end time in s (default measurements.transmitted_energy.duration)",
 }
 
 
@@ -100,6 +108,19 @@ def _options(case, options: dict) -> dict:
         raise CaseError(f"fem option curved must be true or false, got {out['curved']!r}")
     if out["solver"] not in SOLVER_KINDS:
         raise CaseError(f"fem option solver must be one of {', '.join(SOLVER_KINDS)}, got {out['solver']!r}")
+    dynamic = "transmitted_energy" in case.measurements
+    out["dynamics"] = str(opts.get("dynamics", "newmark" if dynamic else "static"))
+    if out["dynamics"] not in ("static", "newmark", "central"):
+        raise CaseError(f"fem option dynamics must be static, newmark or central, got {out['dynamics']!r}")
+    if dynamic and out["dynamics"] == "static":
+        raise CaseError("fem option dynamics = 'static' cannot measure transmitted_energy (a wave); "
+                        "use newmark or central")
+    out["mass"] = str(opts.get("mass", "lumped" if out["dynamics"] == "central" else "consistent"))
+    out["dt"] = None if opts.get("dt") is None else check_number("fem option dt", opts["dt"], low=0, low_open=True)
+    out["cfl"] = check_number("fem option cfl", opts.get("cfl", 0.9 if out["dynamics"] == "central" else 0.5),
+                              low=0, high=1, low_open=True)
+    out["duration"] = None if opts.get("duration") is None else \
+        check_number("fem option duration", opts["duration"], low=0, low_open=True)
     if out["line_points"] < 2 or out["jump_points"] < 1:
         raise CaseError("fem options line_points must be >= 2 and jump_points >= 1")
     return out
@@ -128,6 +149,9 @@ def solve(case, **options) -> Result:
     opts = _options(case, options)
     timings = {"mesh": 0.0, "assembly": 0.0, "constraints": 0.0, "solve": 0.0, "post": 0.0}
     warnings: list[str] = []
+    if opts["dynamics"] != "static":
+        from .transient import solve as transient_solve
+        return transient_solve(case, opts, timings, warnings)
 
     t0 = time.perf_counter()
     disc = discretize(case, opts["element_size"], opts["order"], opts["intorder"], opts["max_dofs"],

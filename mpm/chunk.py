@@ -50,16 +50,18 @@ def record_step(hist, s, t, ke, U, work, diss, wbc, u_int, ke_grid):
 
 
 @njit(cache=True)
-def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, mode,
+def run_chunk_2d(nsteps, t0, dt, ramp_time, ramp_code, alpha, kinetic_damping, pic, mode,
                  x, v, pmass, pvol, pvol0, stress, strain, field, x0, fext, foff, C,
                  origin, cell, nn, lp, kind,
                  mass, mom, force, volume, volgrad, disp, pos, nvel, nacc,
-                 bc_node, bc_field, bc_comp, bc_vel, bc_tend,
+                 bc_node, bc_field, bc_comp, bc_vel, bc_tend, bc_ramp, bc_tramp,
                  hist, ke_prev,
                  bmass, bmom, bforce, bvolume, bvolgrad, bdisp, bpos):
     """``nsteps`` complete time steps of a run without multimaterial nodes.
 
-    ``bc_vel`` applies until ``bc_tend`` (then 0: a ramped prescribed displacement).
+    Nodal conditions follow their histories (``bc_vel``, ``bc_tend``, ``bc_ramp``,
+    ``bc_tramp``: :func:`mpm.kernels.step_velocities`); tractions the load ramp
+    (``ramp_time``, ``ramp_code``: :func:`mpm.kernels.ramp`).
     Kinetic damping zeroes the particle velocities whenever the kinetic energy has just
     peaked. P2G/G2P over the blocks of the buffers ``b*``
     (:class:`mpm.parallel.BlockBuffers`). Returns (number of steps done, index of a
@@ -69,7 +71,7 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, mode,
     nb = bmass.shape[0]
     t = t0
     for s in range(nsteps):
-        scale = ramp(t, ramp_time)
+        scale = ramp(t, ramp_time, ramp_code)
         lost = p2g_blocks_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, scale,
                              origin, cell, nn, lp, kind, False, mode != USF,
                              mass, mom, force, volume, volgrad, disp, pos,
@@ -80,7 +82,7 @@ def run_chunk_2d(nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, mode,
             stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn, lp,
                                 kind, dt, mass, mom)
             p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force)
-        step_velocities(t, dt, bc_vel, bc_tend, vel)
+        step_velocities(t, dt, bc_vel, bc_tend, bc_ramp, bc_tramp, vel)
         diss, wbc = grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, vel)
         nodal_kinematics(mass, mom, force, nvel, nacc)
         ke, U, work, lost, ke_grid = g2p_blocks_2d(

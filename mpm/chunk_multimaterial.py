@@ -48,12 +48,12 @@ def _count_over_limit(node_out, nodes) -> int:
 
 @njit(cache=True)
 def run_chunk_multimaterial_2d(
-        nsteps, t0, dt, ramp_time, alpha, kinetic_damping, pic, mode, linear_u,
+        nsteps, t0, dt, ramp_time, ramp_code, alpha, kinetic_damping, pic, mode, linear_u,
         with_interface, check_limit,
         x, v, pmass, pvol, pvol0, stress, strain, field, x0, fext, foff, C,
         origin, cell, nn, lp, kind,
         mass, mom, force, volume, volgrad, disp, pos, nvel, nacc,
-        bc_node, bc_field, bc_comp, bc_vel, bc_tend,
+        bc_node, bc_field, bc_comp, bc_vel, bc_tend, bc_ramp, bc_tramp,
         thick, law_kind, law_params, settings, rigid, node_zone, zone_pairs, zone_kind,
         zone_params, node_out, over_limit,
         hist, ke_prev,
@@ -76,7 +76,7 @@ def run_chunk_multimaterial_2d(
     lr_sep = np.zeros((0, M))
     t = t0
     for s in range(nsteps):
-        scale = ramp(t, ramp_time)
+        scale = ramp(t, ramp_time, ramp_code)
         lost = p2g_blocks_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, scale,
                              origin, cell, nn, lp, kind, True, mode != USF,
                              mass, mom, force, volume, volgrad, disp, pos,
@@ -110,7 +110,7 @@ def run_chunk_multimaterial_2d(
                     over_limit[1] = max(over_limit[1], float(over))
                     if over_limit[2] < 0.0:
                         over_limit[2] = t
-        step_velocities(t, dt, bc_vel, bc_tend, vel)
+        step_velocities(t, dt, bc_vel, bc_tend, bc_ramp, bc_tramp, vel)
         diss, wbc = grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, vel)
         if multi:
             correct_momentum_kernel(1, mass, mom, force, volume, volgrad, disp, pos, cell, thick,

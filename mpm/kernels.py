@@ -18,6 +18,8 @@ inlined helpers per particle costs numba reference-count calls (halved P2G speed
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -609,25 +611,77 @@ def set_velocity_bc(mass, mom, bc_node, bc_field, bc_comp, bc_vel):
 # ------------------------------------------------------------------ time ----
 
 
+#: how a nodal condition's velocity evolves (``mpm.boundary.NodalConditions.ramp``)
+HOLD = 0             # ``vel`` until ``t_end``, then 0 (fixed, unramped velocity, linear displacement u / T)
+DISP_COSINE = 1      # displacement u (1 - cos(pi t / T)) / 2 (002 Eq 49), ``vel`` = u
+VEL_LINEAR = 2       # velocity v t / T up to v, ``vel`` = v
+VEL_COSINE = 3       # velocity v (1 - cos(pi t / T)) / 2 up to v, ``vel`` = v
+#: load ramps of tractions (``interfaces.case.RAMPS`` order)
+RAMP_LINEAR = 0
+RAMP_COSINE = 1
+
+
 @njit(cache=True)
-def step_velocities(t, dt, bc_vel, bc_tend, vel):
-    """Nodal condition velocities for the step t -> t + dt: ``bc_vel`` while the
-    condition lasts (t < ``bc_tend``), scaled by the fraction of the step before
-    ``bc_tend`` so a displacement u imposed as u / T over T moves by exactly u whatever
-    T / dt is (ceil(T / dt) full steps overshoot by up to dt / T)."""
+def ramp_fraction(s, code):
+    """Load fraction of the ramp ``code`` at s = t / T (0 before, 1 after the ramp)."""
+    if s <= 0.0:
+        return 0.0
+    if s >= 1.0:
+        return 1.0
+    if code == RAMP_COSINE:
+        return 0.5 * (1.0 - math.cos(math.pi * s))
+    return s
+
+
+@njit(cache=True)
+def ramp_integral(t, T, code):
+    """int_0^t of the ramp fraction (s): the displacement of a unit ramped velocity."""
+    if t <= 0.0:
+        return 0.0
+    if t >= T:
+        return t - 0.5 * T
+    if code == RAMP_COSINE:
+        return 0.5 * t - 0.5 * T / math.pi * math.sin(math.pi * t / T)
+    return 0.5 * t * t / T
+
+
+@njit(cache=True)
+def step_velocities(t, dt, bc_vel, bc_tend, bc_ramp, bc_tramp, vel):
+    """Nodal condition velocities for the step t -> t + dt.
+
+    ``HOLD``: ``bc_vel`` while the condition lasts (t < ``bc_tend``), scaled by the
+    fraction of the step before ``bc_tend`` so a displacement u imposed as u / T over T
+    moves by exactly u whatever T / dt is (ceil(T / dt) full steps overshoot by up to
+    dt / T). The ramped histories (cosine displacement, linear or cosine velocity over
+    ``bc_tramp``) impose the mean velocity of the step, (U(t + dt) - U(t)) / dt with U
+    the prescribed displacement, so the boundary follows the history exactly at every
+    step end."""
     for b in range(bc_vel.size):
-        frac = (bc_tend[b] - t) / dt
-        if frac >= 1.0:
-            vel[b] = bc_vel[b]
-        elif frac > 0.0:
-            vel[b] = bc_vel[b] * frac
+        code = bc_ramp[b]
+        if code == HOLD:
+            frac = (bc_tend[b] - t) / dt
+            if frac >= 1.0:
+                vel[b] = bc_vel[b]
+            elif frac > 0.0:
+                vel[b] = bc_vel[b] * frac
+            else:
+                vel[b] = 0.0
+        elif code == DISP_COSINE:
+            T = bc_tramp[b]
+            vel[b] = bc_vel[b] * (ramp_fraction((t + dt) / T, RAMP_COSINE)
+                                  - ramp_fraction(t / T, RAMP_COSINE)) / dt
         else:
-            vel[b] = 0.0
+            T = bc_tramp[b]
+            rc = RAMP_COSINE if code == VEL_COSINE else RAMP_LINEAR
+            vel[b] = bc_vel[b] * (ramp_integral(t + dt, T, rc) - ramp_integral(t, T, rc)) / dt
 
 
 @njit(cache=True)
-def ramp(t, ramp_time):
-    """Linear load ramp: t / ramp_time up to 1."""
+def ramp(t, ramp_time, code):
+    """Traction load fraction at time t: linear t / ramp_time or cosine
+    (1 - cos(pi t / ramp_time)) / 2, up to 1."""
     if ramp_time <= 0.0 or t >= ramp_time:
         return 1.0
+    if code == RAMP_COSINE:
+        return 0.5 * (1.0 - math.cos(math.pi * t / ramp_time))
     return t / ramp_time

@@ -175,7 +175,7 @@ def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
     cut the particle lattice (rotated bodies) the shares are the side lengths nearest to
     each particle, corrected so that the resultant and the moment equal those of the
     uniform traction (:func:`_equivalent_shares`), and the force acts at the particle. Returns one record per traction
-    condition: particle indices, total force vector and ramp time.
+    condition: particle indices, total force vector, ramp time and ramp name.
     """
     thickness = case.thickness if D == 2 else 1.0
     loads = []
@@ -201,7 +201,7 @@ def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
         # the side is aligned with the grid axes; otherwise at the particle (S_ip weights)
         if aligned:
             particles.foff[idx] = normal * (0.5 * float(np.abs(normal) @ particles.spacing))
-        loads.append({"particles": idx, "force": total, "ramp_time": bc.ramp_time,
+        loads.append({"particles": idx, "force": total, "ramp_time": bc.ramp_time, "ramp": bc.ramp,
                       "body": bc.body, "side": bc.side})
     return loads
 

@@ -16,33 +16,32 @@ import numpy as np
 
 from interfaces.errors import CaseError
 
-from .boundary import NodalConditions
+from . import kernels as K
+from .boundary import NodalConditions, history
 
 
-def rigid_body_velocity(case, body: str, default_ramp: float, D: int) -> tuple[np.ndarray, float]:
-    """Velocity (mm/s) of a rigid body from its boundary conditions and the time it ends
-    (inf for a constant velocity; the ramp time for a displacement, imposed as u / T)."""
+def rigid_body_velocity(case, body: str, default_ramp: float, D: int) -> tuple[np.ndarray, ...]:
+    """Per component: kernel velocity (mm/s), history code, t_end and ramp time of a rigid
+    body's motion (:func:`mpm.boundary.history`: constant velocity, ramped velocity,
+    displacement along its ramp)."""
     vel = np.zeros(D)
-    t_end = np.inf
+    code = np.full(D, K.HOLD, np.int64)
+    t_end = np.full(D, np.inf)
+    t_ramp = np.full(D, default_ramp)
     for k, bc in enumerate(case.boundary_conditions):
         if bc.body != body:
             continue
-        comps = bc.component_indices()
         if bc.kind == "fixed":
             continue
-        if bc.kind == "velocity":
-            vec = bc.vector(D)
-            vel[comps] = vec[comps]
-        elif bc.kind == "displacement":
-            T = bc.ramp_time if bc.ramp_time is not None else default_ramp
-            vec = bc.vector(D)
-            vel[comps] = vec[comps] / T
-            t_end = T
-        else:
+        if bc.kind not in ("velocity", "displacement"):
             raise CaseError(f"boundary_conditions[{k}]: body {body!r} is rigid (mpm option "
                             f"rigid_bodies); it takes fixed, velocity or uniform displacement "
                             f"conditions, not {bc.kind!r}")
-    return vel, t_end
+        comps = bc.component_indices()
+        divisor, c, te, tr = history(bc, default_ramp, f"boundary_conditions[{k}]")
+        vel[comps] = bc.vector(D)[comps] / divisor
+        code[comps], t_end[comps], t_ramp[comps] = c, te, tr
+    return vel, code, t_end, t_ramp
 
 
 def with_rigid_conditions(case, bcs: NodalConditions, rigid: np.ndarray, n_nodes: int, D: int,
@@ -50,14 +49,17 @@ def with_rigid_conditions(case, bcs: NodalConditions, rigid: np.ndarray, n_nodes
     """``bcs`` without the side conditions of rigid fields, plus the rigid velocity of
     every rigid field on every node and component."""
     keep = ~np.isin(bcs.field, np.flatnonzero(rigid))
-    cols = [[a[keep]] for a in (bcs.node, bcs.field, bcs.comp, bcs.vel, bcs.t_end)]
+    arrays = (bcs.node, bcs.field, bcs.comp, bcs.vel, bcs.t_end, bcs.ramp, bcs.t_ramp)
+    cols = [[a[keep]] for a in arrays]
     nodes = np.arange(n_nodes, dtype=np.int64)
     for f in np.flatnonzero(rigid):
-        vel, t_end = rigid_body_velocity(case, case.bodies[f].name, default_ramp, D)
+        vel, code, t_end, t_ramp = rigid_body_velocity(case, case.bodies[f].name, default_ramp, D)
         for c in range(D):
             cols[0].append(nodes)
             cols[1].append(np.full(n_nodes, f, np.int64))
             cols[2].append(np.full(n_nodes, c, np.int64))
             cols[3].append(np.full(n_nodes, vel[c]))
-            cols[4].append(np.full(n_nodes, t_end))
+            cols[4].append(np.full(n_nodes, t_end[c]))
+            cols[5].append(np.full(n_nodes, code[c], np.int64))
+            cols[6].append(np.full(n_nodes, t_ramp[c]))
     return NodalConditions(*(np.ascontiguousarray(np.concatenate(c)) for c in cols))

@@ -6,7 +6,9 @@ damping and nodal conditions -> contact correction phase 1 -> G2P (FLIP, PIC ble
 stress update (USL; USF optional). Runs without multimaterial nodes execute whole
 chunks of steps inside one compiled loop (:func:`mpm.kernels.run_chunk_2d`).
 
-Loads are ramped linearly over ``ramp_time``; grid damping (or kinetic damping)
+Tractions are ramped over ``ramp_time`` (linearly, or along the cosine ramp the case
+gives them); prescribed displacements and velocities follow their own ramps
+(``mpm.boundary``); grid damping (or kinetic damping)
 removes the dynamic response so that the run settles on the static answer; the run
 stops when, after the ramp, kinetic energy stays below ``tol`` x (strain +
 interface energy) for half an estimated fundamental period, or at ``max_time``.
@@ -24,7 +26,7 @@ from interfaces.numba_cache import cache_is_cold
 from interfaces.result import Result
 
 from . import kernels as K
-from .boundary import nodal_conditions
+from .boundary import nodal_conditions, ramp_code
 from .extrapolation import displacement_to_nodes
 from .gauges import StressGauges
 from .grid import Grid, NodalFields
@@ -60,6 +62,9 @@ _DIRECTION_SPRINGS = {"normal": ("Dn", "Dn_tension", "Dn_compression"), "tangent
 
 #: adaptive damping follows periods up to this multiple of the axial estimate T1 = 4 L / c
 MAX_PERIOD_RATIO = 50.0
+
+#: samples of the gauges over the pulse duration (the shortest load ramp)
+GAUGE_SAMPLES = 100
 
 HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc", "interface",
                 "kinetic_grid")
@@ -120,9 +125,7 @@ class Model:
         self.dt = opts["dt"] or opts["cfl"] * dt_stable
         length = float(np.max(hi - lo))
         self.T1 = 4.0 * length / c_min
-        ramps = [ld["ramp_time"] for ld in self.loads if ld["ramp_time"] is not None]
-        self.ramp_time = opts["ramp_time"] if opts["ramp_time"] is not None else \
-            (max(ramps) if ramps else self.T1)
+        self.ramp_time, self.ramp_code = _traction_ramp(self.loads, opts["ramp_time"], self.T1)
         # lowest period of the loaded deformation: starts at T1, then follows the Rayleigh
         # quotient of the current displacement field (adaptive damping, see rayleigh_period)
         self.period = self.T1
@@ -148,6 +151,21 @@ class Model:
             opts["update"] = "usl" if _grid_aligned(case, self.grid) else "musl"
         self.force_limiting = self.tables is None or \
             bool(self.tables.settings[S_FORCE_LIMIT] != 0.0)
+
+
+def _traction_ramp(loads: list[dict], option: float | None, T1: float) -> tuple[float, int]:
+    """The one load ramp (time, kernel code) every traction follows: the ``ramp_time``
+    option, else the tractions' own ramp time, else T1 (a quasi-static ramp); tractions
+    with different ramps are refused (the compiled step scales all tractions by one
+    load fraction)."""
+    times = sorted({ld["ramp_time"] for ld in loads if ld["ramp_time"] is not None})
+    names = sorted({ld["ramp"] for ld in loads})
+    if len(times) > 1 or len(names) > 1:
+        raise CaseError("boundary_conditions: mpm applies every traction with one load ramp, "
+                        f"got ramp_time {times} and ramp {names}; give the tractions the same "
+                        "ramp_time and ramp")
+    ramp_time = option if option is not None else (times[0] if times else T1)
+    return ramp_time, ramp_code(names[0] if names else "linear", "boundary_conditions[traction]")
 
 
 def rayleigh_period(mass: np.ndarray, volume: np.ndarray, C_particle: np.ndarray,
@@ -265,12 +283,12 @@ class _Runner:
             self.block_buffers = BlockBuffers(default_blocks(pt.P), m.grid.N, m.M, m.M > 1)
         if m.M == 1:
             done, lost = run_chunk_2d(
-                nsteps, self.t, m.dt, m.ramp_time, m.alpha, kinetic, m.opts["pic"], mode,
+                nsteps, self.t, m.dt, m.ramp_time, m.ramp_code, m.alpha, kinetic, m.opts["pic"], mode,
                 pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                 pt.x0, pt.fext, pt.foff, m.C, m.grid.origin, m.grid.cell, m.grid.nn, pt.lp, m.kind,
                 nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
                 nd.displacement, nd.position, nd.velocity, nd.acceleration,
-                bc.node, bc.field, bc.comp, bc.vel, bc.t_end,
+                bc.node, bc.field, bc.comp, bc.vel, bc.t_end, bc.ramp, bc.t_ramp,
                 hist, self.ke_prev, *self.block_buffers.arrays())
         else:
             done, lost = self._advance_multimaterial(nsteps, hist, mode, kinetic)
@@ -300,14 +318,14 @@ class _Runner:
             node_out = m.node_out if m.node_out is not None else np.zeros((0, mm.NODE_OUT_COLUMNS))
             over = np.array(self.over_limit, dtype=float)
             done, lost = CM.run_chunk_multimaterial_2d(
-                nsteps, self.t, m.dt, m.ramp_time, m.alpha, kinetic, m.opts["pic"], mode,
+                nsteps, self.t, m.dt, m.ramp_time, m.ramp_code, m.alpha, kinetic, m.opts["pic"], mode,
                 m.opts["nodal_displacement"] == "linear", tb.has_interfaces,
                 tb.has_interfaces and not m.force_limiting,
                 pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                 pt.x0, pt.fext, pt.foff, m.C, g.origin, g.cell, g.nn, pt.lp, m.kind,
                 nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
                 nd.displacement, nd.position, nd.velocity, nd.acceleration,
-                bc.node, bc.field, bc.comp, bc.vel, bc.t_end,
+                bc.node, bc.field, bc.comp, bc.vel, bc.t_end, bc.ramp, bc.t_ramp,
                 np.ascontiguousarray(np.atleast_1d(np.asarray(thick, dtype=np.float64))),
                 tb.law_kind, tb.law_params, tb.settings, tb.rigid, tb.node_zone, tb.zone_pairs,
                 tb.zone_kind, tb.zone_params, node_out, over,
@@ -329,7 +347,7 @@ class _Runner:
         linear_u = m.opts["nodal_displacement"] == "linear"
         t = self.t
         for s in range(nsteps):
-            scale = K.ramp(t, m.ramp_time)
+            scale = K.ramp(t, m.ramp_time, m.ramp_code)
             lost = K.p2g_2d(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
                             pt.foff, scale, g.origin, g.cell, g.nn, pt.lp, m.kind, True,
                             mode != K.USF,
@@ -376,7 +394,7 @@ class _Runner:
                         self.over_limit[1] = max(self.over_limit[1], over)
                         if self.over_limit[2] < 0:
                             self.over_limit[2] = t
-            K.step_velocities(t, m.dt, bc.vel, bc.t_end, vel)
+            K.step_velocities(t, m.dt, bc.vel, bc.t_end, bc.ramp, bc.t_ramp, vel)
             diss, wbc = K.grid_update(nd.mass, nd.momentum, nd.force, m.dt, m.alpha,
                                       bc.node, bc.field, bc.comp, vel)
             if multi:
@@ -430,11 +448,11 @@ class _Runner:
         interval = max(1, int(math.ceil(0.25 * m.T1 / m.dt)))
         spec = m.case.measurements.get("transmitted_energy")
         if spec is not None:
-            # 002 Sec 3.3 gauges: sample the pulse (the shortest load ramp) ~50 times
-            self.gauges = StressGauges(m.case, m.particles.x0, m.particles.spacing, spec)
+            # 002 Sec 3.3 gauges: sample the pulse (the shortest load ramp) ~GAUGE_SAMPLES times
+            self.gauges = StressGauges(m.case, m.particles.x0, m.particles.spacing)
             ramps = [bc.ramp_time for bc in m.case.boundary_conditions if bc.ramp_time]
             pulse = min(ramps + [m.ramp_time])
-            interval = min(interval, max(1, int(pulse / (50.0 * m.dt))))
+            interval = min(interval, max(1, int(pulse / (GAUGE_SAMPLES * m.dt))))
             self.gauges.sample(self.t, m.particles.stress)
         total_steps = int(math.ceil(m.max_time / m.dt))
         est_time = 1e-7 * m.particles.P * total_steps
@@ -474,7 +492,8 @@ class _Runner:
                 self.stopped_by = "kinetic_energy"
                 break
         bar.close(f"{self.steps} steps, stopped by {self.stopped_by}")
-        if self.stopped_by == "max_time":
+        if self.stopped_by == "max_time" and m.opts["damping"] != "none":
+            # an undamped run is dynamic: it ends at max_time by design
             self.warnings.append(
                 f"mpm: reached max_time = {m.max_time:.4g} s before kinetic energy fell below "
                 f"tol = {m.opts['tol']:g} x stored energy; increase max_time or damping")

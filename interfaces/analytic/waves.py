@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from scipy.integrate import quad
 from scipy.optimize import minimize_scalar
 
@@ -43,7 +44,7 @@ from interfaces.errors import check_number
 
 __all__ = ["bar_wave_speed", "dilatational_wave_speed", "impedance", "wave_transmission",
            "wave_reflection", "wave_amplitude_ratios", "wave_transmission_identical",
-           "pulse_transmission"]
+           "pulse_transmission", "pulse_histories"]
 
 
 def bar_wave_speed(E: float, rho: float) -> float:
@@ -131,6 +132,39 @@ def wave_transmission_identical(f: float, Dn: float, rho: float, E: float | None
     return Dn * Dn / (Dn * Dn + (math.pi * f * Z) ** 2)
 
 
+def _transmitted(t, w: float, lam: float, c: float):
+    """s_t(t) per unit incident amplitude (see :func:`pulse_transmission`), any t >= 0."""
+    t = np.asarray(t, dtype=float)
+    t_end = math.pi / w
+    tc = np.minimum(t, t_end)
+    during = c * (lam * np.sin(w * tc) - w * np.cos(w * tc) + w * np.exp(-lam * tc)) / (lam * lam + w * w)
+    out = np.where(t <= t_end, during, during * np.exp(-lam * np.maximum(t - t_end, 0.0)))
+    return float(out) if out.ndim == 0 else out
+
+
+def pulse_histories(f: float, Dn: float, Z1: float, Z2: float | None = None, t=None,
+                    s0: float = 1.0) -> dict:
+    """Stress histories at the interface of the Eq 49 pulse (002 Fig 11), t (s) from the
+    incident pulse's arrival: incident s0 sin(2 pi f t) for t <= 1/(2f), transmitted
+    s_t (exact solution of the module docstring's filter, free decay after the pulse)
+    and reflected s_r = s_t - s_i (traction continuity). Dn = inf: s_t = 2 Z2/(Z1 + Z2) s_i."""
+    f = positive("f", f)
+    Dn = interface_stiffness("Dn", Dn)
+    Z1 = positive("Z1", Z1)
+    Z2 = Z1 if Z2 is None else positive("Z2", Z2)
+    t = np.asarray(t, dtype=float)
+    w = 2.0 * math.pi * f
+    s_i = s0 * np.where((t >= 0.0) & (t <= math.pi / w), np.sin(w * np.clip(t, 0.0, None)), 0.0)
+    if math.isinf(Dn):
+        s_tr = 2.0 * Z2 / (Z1 + Z2) * s_i
+    elif Dn == 0.0:
+        s_tr = np.zeros_like(t)
+    else:
+        s_tr = s0 * np.where(t >= 0.0, _transmitted(np.clip(t, 0.0, None), w, Dn * (1.0 / Z1 + 1.0 / Z2),
+                                                    2.0 * Dn / Z1), 0.0)
+    return {"time": t, "incident": s_i, "transmitted": s_tr, "reflected": s_tr - s_i}
+
+
 def pulse_transmission(f: float, Dn: float, Z1: float, Z2: float | None = None) -> dict[str, float]:
     """Transmission of the single half-sine stress pulse of 002 Eq 49 through a spring interface.
 
@@ -164,10 +198,9 @@ def pulse_transmission(f: float, Dn: float, Z1: float, Z2: float | None = None) 
         return {"transmitted_energy": T, "reflected_energy": 1.0 - T, "peak_ratio_squared": T,
                 "harmonic_transmission": harmonic}
     lam = Dn * (1.0 / Z1 + 1.0 / Z2)
-    c = 2.0 * Dn / Z1  # per unit incident amplitude s0
 
     def s_t(t: float) -> float:
-        return c * (lam * math.sin(w * t) - w * math.cos(w * t) + w * math.exp(-lam * t)) / (lam * lam + w * w)
+        return _transmitted(t, w, lam, 2.0 * Dn / Z1)
 
     def s_r(t: float) -> float:
         return s_t(t) - math.sin(w * t)

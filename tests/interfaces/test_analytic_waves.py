@@ -148,3 +148,24 @@ def test_bad_wave_inputs():
         dilatational_wave_speed(E, 0.3, RHO, "2d")
     with pytest.raises(CaseError, match="wave speed v or the modulus E"):
         wave_transmission_identical(F, 1.0, RHO)
+
+
+@pytest.mark.parametrize("Dn", [5e3, 3e4, 2e5])
+def test_pulse_histories_solve_the_interface_filter_and_carry_the_pulse_energies(Dn):
+    """002 Fig 11 histories: s_t obeys d s_t/dt + lambda s_t = (2 K / Z1) s_i (central
+    finite differences), s_r = s_t - s_i, and their energy ratios are pulse_transmission's."""
+    from interfaces.analytic.waves import pulse_histories
+    Z1, Z2 = 0.0887, 0.05
+    t = np.linspace(0.0, 40.0 / F, 400001)
+    h = pulse_histories(F, Dn, Z1, Z2, t)
+    lam = Dn * (1.0 / Z1 + 1.0 / Z2)
+    dsdt = np.gradient(h["transmitted"], t)
+    resid = dsdt + lam * h["transmitted"] - 2.0 * Dn / Z1 * h["incident"]
+    smooth = np.abs(t - 0.5 / F) > 3 * (t[1] - t[0])   # s_i has a kink at the pulse end
+    assert np.abs(resid[smooth][2:-2]).max() < 1e-4 * 2.0 * Dn / Z1
+    np.testing.assert_allclose(h["reflected"], h["transmitted"] - h["incident"])
+    exact = pulse_transmission(F, Dn, Z1, Z2)
+    e_i = np.trapezoid(h["incident"] ** 2, t)
+    assert Z1 / Z2 * np.trapezoid(h["transmitted"] ** 2, t) / e_i == pytest.approx(
+        exact["transmitted_energy"], rel=1e-5)
+    assert np.trapezoid(h["reflected"] ** 2, t) / e_i == pytest.approx(exact["reflected_energy"], rel=1e-5)

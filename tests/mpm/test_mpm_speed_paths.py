@@ -21,7 +21,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cases.library import dls, two_layer
+from cases.library import dls, two_layer, wave
 from mpm import chunk_multimaterial as CM
 from mpm.options import merge
 from mpm.parallel import BlockBuffers
@@ -61,6 +61,8 @@ CASES = {
                                                              "damping": "kinetic"}, 160),
     # stiff interface without force limiting: the over-limit counter runs (the run
     # diverges, a particle leaves the grid at step 6: compare the first 5 steps)
+    # undamped: the cosine displacement pulse of 002 Eq 49 through an imperfect interface
+    "wave_cosine_pulse": (lambda: wave(Dn=3e4, mpm_cell=2.0, height=4.0), {}, 80),
     "two_layer_unlimited": (lambda: two_layer(Dt=1e6, width=2.0, height=4.0, mpm_cell=0.5),
                             {"force_limiting": False}, 5),
 }
