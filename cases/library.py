@@ -324,8 +324,9 @@ def cpd_plane_material(C1: float, C2_ratio: float, delta: float) -> IsotropicEla
 
 def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str = "vertical",
                       hole: bool = False, strain_scale: float = 1.0, h: float = 0.01, delta_factor: float = 3.01,
-                      overlap: float = 1.0, fem_h: float = 0.01) -> Case:
-    """Bimaterial unit square of 003 Sec 4.1 (Fig 4-7, 9-12), plane strain, perfect interface.
+                      overlap: float = 1.0, fem_h: float = 0.01, Dn: float = math.inf, Dt: float = math.inf,
+                      mpm_cell: float = 0.02) -> Case:
+    """Bimaterial unit square of 003 Sec 4.1 (Fig 4-7, 9-12), plane strain, interface Dn, Dt.
 
     Square [-0.5, 0.5]^2 split in halves by a ``vertical`` (x = 0), ``horizontal``
     (y = 0) or ``diagonal`` (45 degrees, y = x) interface; material A left/bottom, B
@@ -336,7 +337,9 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
     stretch, shear), scaled by ``strain_scale`` (1000 gives the 100 % stretch of Sec 4.4).
     ``hole``: a centred square hole of side 0.4 (003 Fig 9 bottom). CPD options: grid
     spacing h, delta = delta_factor h, overlap width = ``overlap`` x delta.
-    Reference: plane-strain FEM with a perfect interface.
+    ``Dn``, ``Dt`` (MPa/mm): the interface law (inf = the perfect interface of 003; finite
+    values use the compliant CPD overlap, ``docs/cpd_interface.md``).
+    Reference: plane-strain FEM.
     """
     if parameter_set not in TABLE2:
         raise CaseError(f"parameter_set must be 1, 2, 3 or 4, got {parameter_set!r}")
@@ -364,7 +367,7 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
         description=(f"CPD bimaterial square (003 Sec 4.1): set {parameter_set}, load case "
                      f"{'I' * load_case if load_case < 3 else 'III'}, {interface} interface{', hole' if hole else ''}"),
         materials=mats, bodies=bodies,
-        interfaces=[InterfacePair("A", "B", LinearInterface(math.inf, math.inf))],
+        interfaces=[InterfacePair("A", "B", LinearInterface(Dn, Dt))],
         boundary_conditions=bcs,
         measurements={"strain_energy": {}},
         discretization={"fem": {"element_size": fem_h, "order": 2},
@@ -375,8 +378,8 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
 
 
 def cuboid(interface: str = "vertical", load_case: int = 1, size=(1.0, 1.0, 1.0), h: float = 0.035,
-           delta_factor: float = 3.01) -> Case:
-    """Bimaterial cuboid of 003 Sec 4.5 (Fig 13), 3D, perfect interface.
+           delta_factor: float = 3.01, Dn: float = math.inf, Dt: float = math.inf) -> Case:
+    """Bimaterial cuboid of 003 Sec 4.5 (Fig 13), 3D, interface Dn, Dt (inf: perfect, as in 003).
 
     Material A (nu = 0.1) and B (nu = 0.4, C1^B = 20 C1^A) with C1^A = 1 at
     delta = 3.01 x 0.035, converted by ERRATA 12 (mu = pi C1 delta^4 / 30). Interface
@@ -407,7 +410,7 @@ def cuboid(interface: str = "vertical", load_case: int = 1, size=(1.0, 1.0, 1.0)
         name="cuboid", analysis="3d", thickness=1.0,
         description=f"CPD bimaterial cuboid (003 Sec 4.5), {interface} interface, load case {load_case}",
         materials=mats, bodies=[Body("A", shapes[0], "A"), Body("B", shapes[1], "B")],
-        interfaces=[InterfacePair("A", "B", LinearInterface(math.inf, math.inf))],
+        interfaces=[InterfacePair("A", "B", LinearInterface(Dn, Dt))],
         boundary_conditions=bcs, measurements={"strain_energy": {}},
         discretization={"cpd": {"h": h, "delta_factor": delta_factor, "overlap": 1.0}},
         lines={"axis": [[-sx / 2, 0.0, 0.0], [sx / 2, 0.0, 0.0]]},

@@ -90,11 +90,16 @@ class Pattern:
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(n, n))
 
 
-def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float) -> Pattern:
-    """Node pairs that can be coupled by some interaction, union over materials."""
+def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float,
+                  extra: tuple[np.ndarray, np.ndarray] | None = None) -> Pattern:
+    """Node pairs that can be coupled by some interaction, union over materials, plus the
+    ``extra`` node pairs (spring ties of the compliant overlap)."""
     n, d = X.shape
     rows = [np.arange(n, dtype=np.int64)]
     cols = [np.arange(n, dtype=np.int64)]
+    if extra is not None:
+        rows += [extra[0], extra[1]]
+        cols += [extra[1], extra[0]]
     for blk in blocks:
         members = np.unique(np.concatenate([blk.centers, blk.nidx]))
         radius = (2.0 if blk.multi else 1.0) * delta * (1.0 + 1e-9)
@@ -116,11 +121,75 @@ def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float) -> P
 
 @dataclass
 class Evaluation:
+    """``energy`` = bulk + spring energy (what Newton minimises), ``point_energy`` the bulk
+    energy per node, ``spring_energy`` (m,) per spring of the compliant overlap."""
+
     energy: float
     residual: np.ndarray            # (N, d) dW/dx
     point_energy: np.ndarray        # (N,) energy of the interactions of each central point
     tangent: sp.csr_matrix | None
     tuples: dict
+    spring_energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+
+class DofMap:
+    """Independent DOFs of the nodes: full DOF k (node * d + component) is independent
+    DOF ``index[k]``; ``ties`` (t, 2) identify full DOF t[0] with t[1] (perfect directions
+    of the compliant overlap). Without ties it is the identity."""
+
+    def __init__(self, n_full: int, ties: np.ndarray | None = None):
+        idx = np.arange(n_full, dtype=np.int64)
+        if ties is not None and len(ties):
+            idx[ties[:, 0]] = ties[:, 1]
+            idx = idx[idx]                      # ties point at originals, which are not tied
+        uniq, self.index = np.unique(idx, return_inverse=True)
+        self.n = len(uniq)
+        self.identity = self.n == n_full
+
+    def expand(self, u: np.ndarray) -> np.ndarray:
+        return u if self.identity else u[self.index]
+
+    def reduce(self, f: np.ndarray) -> np.ndarray:
+        return f if self.identity else np.bincount(self.index, weights=f, minlength=self.n)
+
+
+class SpringBlock:
+    """The compliant-overlap springs: energy, residual and constant tangent data
+    (the tangent entries are scattered into the fixed pattern once, at construction)."""
+
+    def __init__(self, springs, pattern: Pattern):
+        self.springs = springs
+        d = pattern.d
+        a, b, S = springs.node_a, springs.node_b, springs.S
+        data = np.zeros(pattern.nnz)
+        for r, c, sgn in ((a, a, 1.0), (b, b, 1.0), (a, b, -1.0), (b, a, -1.0)):
+            for al in range(d):
+                for be in range(d):
+                    np.add.at(data, dof_position(pattern, r, c, al, be), sgn * S[:, al, be])
+        self.data = data
+
+    def add(self, u: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """Add the spring forces to f (N, d); return the energy per spring."""
+        sp_ = self.springs
+        g = u[sp_.node_b] - u[sp_.node_a]
+        t = np.einsum("mab,mb->ma", sp_.S, g)
+        np.add.at(f, sp_.node_b, t)
+        np.subtract.at(f, sp_.node_a, t)
+        return 0.5 * np.einsum("ma,ma->m", g, t)
+
+
+def dof_position(pattern: Pattern, r: np.ndarray, c: np.ndarray, al: int, be: int) -> np.ndarray:
+    """Index in the CSR data of entry (r*d + al, c*d + be) for node pairs in the pattern."""
+    d = pattern.d
+    pos = np.empty(len(r), dtype=np.int64)
+    for k, (a, b) in enumerate(zip(r, c)):
+        lo, hi = pattern.rowptr[a], pattern.rowptr[a + 1]
+        kk = lo + np.searchsorted(pattern.cols[lo:hi], b)
+        if kk >= hi or pattern.cols[kk] != b:
+            raise ValueError("spring tie outside the sparsity pattern")
+        nb = hi - lo
+        pos[k] = d * d * lo + al * d * nb + (kk - lo) * d + be
+    return pos
 
 
 class CPDSystem:
@@ -130,12 +199,17 @@ class CPDSystem:
     two materials in the overlap are one node), ``vol`` (N,) point volumes.
     """
 
-    def __init__(self, X: np.ndarray, vol: np.ndarray, blocks: list[MaterialBlock], delta: float):
+    def __init__(self, X: np.ndarray, vol: np.ndarray, blocks: list[MaterialBlock], delta: float,
+                 springs=None, ties: np.ndarray | None = None):
         self.X = np.ascontiguousarray(X, dtype=np.float64)
         self.vol = np.ascontiguousarray(vol, dtype=np.float64)
         self.blocks = blocks
         self.delta = float(delta)
-        self.pattern = build_pattern(self.X, blocks, delta)
+        has_springs = springs is not None and springs.count > 0
+        extra = (springs.node_a, springs.node_b) if has_springs else None
+        self.pattern = build_pattern(self.X, blocks, delta, extra)
+        self.springs = SpringBlock(springs, self.pattern) if has_springs else None
+        self.dofs = DofMap(self.X.size, ties)
         self._cpar = [
             tuple(np.full(len(b.centers), b.C[k], dtype=np.float64) for k in range(3)) for b in blocks
         ]
@@ -164,5 +238,11 @@ class CPDSystem:
             counts["pairs"] += n1
             counts["triples"] += n2
             counts["quadruples"] += n3
+        e_spring = np.zeros(0)
+        if self.springs is not None:
+            e_spring = self.springs.add(u, f)
+            energy += float(e_spring.sum())
+            if tangent:
+                data += self.springs.data
         K = self.pattern.matrix(data) if tangent else None
-        return Evaluation(energy, f, e_node, K, counts)
+        return Evaluation(energy, f, e_node, K, counts, e_spring)
