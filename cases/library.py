@@ -135,7 +135,8 @@ def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: flo
 
 def two_layer(Dt: float = 5.0, Dn: float = math.inf, width: float = 4.0, height: float = 20.0,
               depth: float = 4.0, stress: float = 0.5, E: float = 2400.0, nu: float = 0.33,
-              shift_x: float = 0.0, fem_h: float = 0.25, mpm_cell: float = 0.25, mpm_ppc: int = 2) -> Case:
+              shift_x: float = 0.0, fem_h: float = 0.25, mpm_cell: float = 0.25, mpm_ppc: int = 2,
+              cpd_h: float = 0.1) -> Case:
     """Two identical layers joined by an imperfect interface (000 Fig 4A, Sec 3).
 
     Layers ``width`` x ``height`` (mm) side by side (interface at x = width), depth
@@ -144,6 +145,8 @@ def two_layer(Dt: float = 5.0, Dn: float = math.inf, width: float = 4.0, height:
     Dn = inf, Dt varied (000 Fig 5: interfacial energy per unit volume vs Dt).
     ``shift_x`` moves the specimen against the MPM grid, whose node lines pass through
     the origin (interface on a grid line for shift_x = 0, mid-cell for cell/2: 000 Fig 8).
+    CPD: grid spacing ``cpd_h``, delta = 3.01 h, the compliant overlap on the interface
+    row (overlap delta/4) with lattice-calibrated constants (docs/cpd_interface.md).
     Reference: FEM (no closed form).
     """
     for n, v in (("width", width), ("height", height), ("depth", depth), ("stress", stress)):
@@ -164,7 +167,8 @@ def two_layer(Dt: float = 5.0, Dn: float = math.inf, width: float = 4.0, height:
         measurements={"interface_energy": {"per_volume": 2 * width * height * depth}},
         discretization={"fem": {"element_size": fem_h, "order": 2},
                         "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
-                                "normal_vector": [1.0, 0.0], "grid_anchor": "origin"}},
+                                "normal_vector": [1.0, 0.0], "grid_anchor": "origin"},
+                        "cpd": {"h": cpd_h, "overlap": 0.25, "calibration": "lattice"}},
         reference="fem",
         lines={"across": [[shift_x, 0.75 * height], [shift_x + 2 * width, 0.75 * height]]},
     )
@@ -324,8 +328,7 @@ def cpd_plane_material(C1: float, C2_ratio: float, delta: float) -> IsotropicEla
 
 def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str = "vertical",
                       hole: bool = False, strain_scale: float = 1.0, h: float = 0.01, delta_factor: float = 3.01,
-                      overlap: float = 1.0, fem_h: float = 0.01, Dn: float = math.inf, Dt: float = math.inf,
-                      mpm_cell: float = 0.02) -> Case:
+                      overlap: float = 1.0, fem_h: float = 0.01, Dn: float = math.inf, Dt: float = math.inf) -> Case:
     """Bimaterial unit square of 003 Sec 4.1 (Fig 4-7, 9-12), plane strain, interface Dn, Dt.
 
     Square [-0.5, 0.5]^2 split in halves by a ``vertical`` (x = 0), ``horizontal``

@@ -31,19 +31,38 @@ def solver(method: str) -> Callable[..., Result]:
         raise MethodUnavailable(f"method {method!r} is not available ({e})") from None
 
 
+def unsupported(case: Case, method: str) -> str | None:
+    """Why ``method`` cannot run ``case`` (from the solver package's ``unsupported`` hook)."""
+    if method not in SOLVERS or method == "analytic":
+        return None
+    try:
+        hook = getattr(importlib.import_module(SOLVERS[method][0]), "unsupported", None)
+    except ImportError:
+        return None
+    return hook(case) if hook is not None else None
+
+
+def supported_methods(case: Case) -> list[str]:
+    """The case's methods that can run it (a method refusing the case's interface law is left out)."""
+    return [m for m in case.methods() if unsupported(case, m) is None]
+
+
 def resolve_methods(case: Case, methods) -> list[str]:
     """Expand ``"all"`` to the methods supporting the case; check explicit names."""
     if isinstance(methods, str):
         methods = [m.strip() for m in methods.split(",") if m.strip()]
     methods = list(methods)
     if methods == ["all"]:
-        return case.methods()
+        return supported_methods(case)
     for m in methods:
         if m not in SOLVERS:
             raise CaseError(f"unknown method {m!r}; methods: {', '.join(SOLVERS)}, all")
         if m not in case.methods():
             raise CaseError(f"method {m!r} does not support case {case.name!r} "
                             f"(supported: {', '.join(case.methods())})")
+        reason = unsupported(case, m)
+        if reason:
+            raise CaseError(f"method {m!r} cannot run case {case.name!r}: {reason}")
     return methods
 
 

@@ -183,6 +183,15 @@ def check_laws(case) -> None:
             law_stiffness(law, w)
 
 
+def unsupported(case) -> str | None:
+    """Why CPD cannot run ``case`` (its interface laws), or None when it can."""
+    try:
+        check_laws(case)
+    except CaseError as e:
+        return str(e)
+    return None
+
+
 def is_perfect(pair) -> bool:
     """True when the pair (and every zone) is a perfect interface (shared-DOF coupling)."""
     laws = [pair.law] + [z[1] for z in pair.zones]
