@@ -3,9 +3,10 @@
 Load steps scale the prescribed displacements (and external forces) linearly. Inside a
 step the free DOFs are iterated with the exact tangent; convergence is measured as in
 003 Table 3: the L2 norm of the residual of the free DOFs normalised by its norm at the
-first iteration of the step (right after the boundary increment; from the second step on
-the free DOFs start from a secant extrapolation of the last converged increment), stop
-at ``tol`` (1e-11). A backtracking line search on the energy / residual guards against
+state right after the boundary increment (free DOFs at the last converged state), stop
+at ``tol`` (1e-11); from the second step on the iterations start from a secant
+extrapolation of the last converged increment (for a linear problem its first residual
+is already round-off small, hence the normalisation by the un-extrapolated state). A backtracking line search on the energy / residual guards against
 diverging iterations; a step that still fails is bisected (``max_cuts`` times) before a
 :class:`interfaces.errors.SolverError` is raised saying what to change.
 """
@@ -228,9 +229,6 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     def attempt(lam0, lam1):
         """Newton iterations from load factor lam0 to lam1: (u, residuals, ev, steps) or a StepFailure."""
         v = u.copy()
-        if opts.extrapolate and prev["u"] is not None and lam0 > prev["lam"]:
-            # secant predictor: continue the last converged increment (free DOFs)
-            v[free] += (lam1 - lam0) / (lam0 - prev["lam"]) * (u[free] - prev["u"][free])
         v[fixed] = lam1 * ubar[fixed]
         res_hist = []
         steps = []
@@ -238,6 +236,17 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
 
         def fail(reason):
             return StepFailure(lam1, res_hist, reason)
+
+        if opts.extrapolate and prev["u"] is not None and lam0 > prev["lam"]:
+            # the normalisation is the residual right after the boundary increment (003
+            # Table 3); the secant predictor below can make the first residual itself
+            # round-off small (linear problems), which would make tol unreachable
+            try:
+                scale = float(np.linalg.norm(residual(evaluate(v, False))[free] - lam1 * fext[free]))
+            except ValueError:
+                scale = None
+            # secant predictor: continue the last converged increment (free DOFs)
+            v[free] += (lam1 - lam0) / (lam0 - prev["lam"]) * (u[free] - prev["u"][free])
 
         try:
             ev = evaluate(v, True)
@@ -248,7 +257,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             rn = float(np.linalg.norm(R))
             if not np.isfinite(rn):
                 return fail("non-finite residual")
-            if scale is None:
+            if scale is None or not scale > 0:
                 scale = max(rn, 1e-300)
             res_hist.append(rn / scale)
             if rn <= opts.tol * scale or rn == 0.0:
@@ -323,7 +332,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
         targets.pop(0)
     out.u = dofs.expand(u)
     out.timings = t
-    out.linear = dict(lin.stats, solver=lin.name, **{f"time_{k}": v for k, v in lin.times.items()},
+    out.linear = dict(lin.stats, solver=lin.name, symbolic_analyses=lin.direct.stats["analyses"], **{f"time_{k}": v for k, v in lin.times.items()},
                       failed_attempts=[{"load": f.load, "reason": f.reason, "residuals": f.residuals}
                                        for f in failures])
     return out

@@ -119,3 +119,24 @@ def test_newton_failure_reports_the_failing_step_history():
     with pytest.raises(SolverError, match=r"failing step: max_iter = 1 reached; its normalised residuals \[1, ") as e:
         peridynamics.solve(case, h=0.1, max_iter=1, load_steps=2)
     assert "load factor 0.0078" in str(e.value) and "load_steps" in str(e.value)
+
+
+def test_one_symbolic_analysis_for_all_iterations_and_load_steps():
+    """The reduced tangent keeps one pattern: PARDISO analyses it once, then only refactorises."""
+    from interfaces.sparse import pardiso_available
+    from peridynamics.newton import NewtonOptions, newton_solve
+    from peridynamics.solver import boundary_vectors
+
+    case = library.bimaterial_square(parameter_set=3, load_case=3, interface="vertical", Dn=1e-4, Dt=math.inf)
+    disc, springs, ties, system = _system(case, 0.1)
+    fixed, u_bar, f_ext = boundary_vectors(disc)
+    out = newton_solve(system, fixed, u_bar, f_ext, NewtonOptions(load_steps=3, reuse_factorization=False))
+    lin = out.linear
+    assert lin["factorizations"] == out.iterations >= 3
+    assert lin["solver"] in ("pardiso", "superlu")
+    if pardiso_available():
+        assert lin["solver"] == "pardiso" and lin["symbolic_analyses"] == 1
+    res = peridynamics.solve(case, h=0.1, solver="superlu")
+    assert res.diagnostics["linear_solver"]["solver"] == "superlu"
+    with pytest.raises(CaseError, match="cpd.solver"):
+        peridynamics.solve(case, h=0.1, solver="mumps")
