@@ -140,3 +140,21 @@ def test_one_symbolic_analysis_for_all_iterations_and_load_steps():
     assert res.diagnostics["linear_solver"]["solver"] == "superlu"
     with pytest.raises(CaseError, match="cpd.solver"):
         peridynamics.solve(case, h=0.1, solver="mumps")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("D", [math.inf, 1e-2])
+def test_cuboid_at_the_papers_spacing_reduced_size(D):
+    """003 Sec 4.5 spacing Delta = 0.035, delta = 3.01 Delta, on a 0.3 x 0.2 x 0.2 cuboid
+    (540 points, 3.8e7 quadruples per tangent, ~6 s each on one core): quadratic Newton,
+    with the perfect and with a compliant interface (D h / mu ~ 28)."""
+    case = library.cuboid(interface="horizontal", load_case=2, size=(0.3, 0.2, 0.2), Dn=D, Dt=D)
+    res = peridynamics.solve(case, h=0.035)
+    r = res.diagnostics["newton_history"][0]["residuals"]
+    assert r[-1] <= 1e-11 and len(r) <= 5
+    for a, b in zip(r[:-1], r[1:]):
+        if a < 1e-3 and b > 1e-13:
+            assert b < 1e3 * a * a
+    q = res.quantities
+    assert abs(q["reaction_all_xmin_x"] + q["reaction_all_xmax_x"]) < 1e-8 * abs(q["reaction_all_xmax_x"])
+    assert (q.get("interface_energy", 0.0) > 0) == math.isfinite(D)
