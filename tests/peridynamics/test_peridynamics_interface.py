@@ -158,3 +158,22 @@ def test_cuboid_at_the_papers_spacing_reduced_size(D):
     q = res.quantities
     assert abs(q["reaction_all_xmin_x"] + q["reaction_all_xmax_x"]) < 1e-8 * abs(q["reaction_all_xmax_x"])
     assert (q.get("interface_energy", 0.0) > 0) == math.isfinite(D)
+
+
+def test_zones_set_the_springs_point_by_point_and_the_jump_profile():
+    """InterfacePair zones (002 Fig 6 style): band points inside the zone use its law."""
+    from interfaces import Rectangle
+
+    case = library.bimaterial_square(parameter_set=3, load_case=3, interface="vertical", Dn=2e-4, Dt=1e-4)
+    case.interfaces[0].zones = [(Rectangle(-1.0, -1.0, 2.0, 1.0), LinearInterface(2e-4, 5e-5))]
+    disc, springs, _, system = _system(case, 0.1)
+    y = disc.X[springs.node_a, 1]
+    width = disc.vol[springs.node_a][springs.counted].sum() / 1.0      # band volume / interface length
+    Stt = springs.S[:, 1, 1] / (disc.vol[springs.node_a] / width)
+    in_zone = y <= 1e-9                                                  # the zone's closed rectangle holds y = 0
+    assert np.allclose(Stt[in_zone], 5e-5) and np.allclose(Stt[~in_zone], 1e-4)
+    assert np.allclose(springs.S[:, 0, 0] / springs.S[:, 1, 1], np.where(in_zone, 4.0, 2.0))
+    res = peridynamics.solve(case, h=0.1)
+    prof = res.profiles["interface_jump"]
+    assert len(prof["s"]) == 11 and np.allclose(prof["x"], 0.0)     # the interface row of the vertex grid
+    assert np.all(np.isfinite(prof["jump_t"])) and np.abs(prof["jump_t"]).max() > 0
