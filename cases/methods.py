@@ -31,24 +31,39 @@ def solver(method: str) -> Callable[..., Result]:
         raise MethodUnavailable(f"method {method!r} is not available ({e})") from None
 
 
-def unsupported(case: Case, method: str) -> str | None:
-    """Why ``method`` cannot run ``case`` (from the solver package's ``unsupported`` hook)."""
-    if method not in SOLVERS or method == "analytic":
-        return None
+def unsupported_reason(case: Case, method: str) -> str | None:
+    """None when ``method`` can run ``case``; otherwise a one-line reason. A method
+    supports a case that has its discretization entry (an analytic model for
+    ``analytic``) and that its package's optional ``supports(case)`` accepts."""
+    if method not in case.methods():
+        return (f"method {method!r} does not support case {case.name!r} "
+                f"(supported: {', '.join(supported_methods(case))})")
     try:
-        hook = getattr(importlib.import_module(SOLVERS[method][0]), "unsupported", None)
-    except ImportError:
-        return None
-    return hook(case) if hook is not None else None
+        mod = importlib.import_module(SOLVERS[method][0])
+    except ImportError as e:
+        return f"method {method!r} is not available ({e})"
+    check = getattr(mod, "supports", None)
+    reason = check(case) if callable(check) else None
+    return None if reason is None else f"{method}: {reason}"
 
 
 def supported_methods(case: Case) -> list[str]:
-    """The case's methods that can run it (a method refusing the case's interface law is left out)."""
-    return [m for m in case.methods() if unsupported(case, m) is None]
+    """The methods that can run ``case`` (what ``imperfect list`` and ``all`` mean)."""
+    out = []
+    for m in case.methods():
+        try:
+            mod = importlib.import_module(SOLVERS[m][0])
+        except ImportError:
+            continue
+        check = getattr(mod, "supports", None)
+        if not callable(check) or check(case) is None:
+            out.append(m)
+    return out
 
 
 def resolve_methods(case: Case, methods) -> list[str]:
-    """Expand ``"all"`` to the methods supporting the case; check explicit names."""
+    """Expand ``"all"`` to the methods that can run the case; check explicit names (a
+    method that cannot run the case is a CaseError saying why)."""
     if isinstance(methods, str):
         methods = [m.strip() for m in methods.split(",") if m.strip()]
     methods = list(methods)
@@ -57,12 +72,9 @@ def resolve_methods(case: Case, methods) -> list[str]:
     for m in methods:
         if m not in SOLVERS:
             raise CaseError(f"unknown method {m!r}; methods: {', '.join(SOLVERS)}, all")
-        if m not in case.methods():
-            raise CaseError(f"method {m!r} does not support case {case.name!r} "
-                            f"(supported: {', '.join(case.methods())})")
-        reason = unsupported(case, m)
-        if reason:
-            raise CaseError(f"method {m!r} cannot run case {case.name!r}: {reason}")
+        reason = unsupported_reason(case, m)
+        if reason is not None:
+            raise CaseError(reason)
     return methods
 
 

@@ -33,8 +33,8 @@ _drop_stale_cache(__path__[0])  # before any kernel module is imported
 
 from .parameters import (calibrate,  # noqa: E402 cpd_from_elastic, cpd_from_lame, elastic_from_cpd, lame_from_cpd,
                          lattice_ratios, nu2d_from_nu3d, nu3d_from_nu2d, poisson_2d)
-from .interface import unsupported  # noqa: E402
+from .interface import supports  # noqa: E402
 from .solver import solve  # noqa: E402
 
-__all__ = ["solve", "unsupported", "calibrate", "cpd_from_elastic", "cpd_from_lame", "elastic_from_cpd", "lame_from_cpd",
+__all__ = ["solve", "supports", "calibrate", "cpd_from_elastic", "cpd_from_lame", "elastic_from_cpd", "lame_from_cpd",
            "lattice_ratios", "nu2d_from_nu3d", "nu3d_from_nu2d", "poisson_2d"]

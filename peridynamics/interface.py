@@ -183,8 +183,9 @@ def check_laws(case) -> None:
             law_stiffness(law, w)
 
 
-def unsupported(case) -> str | None:
-    """Why CPD cannot run ``case`` (its interface laws), or None when it can."""
+def supports(case) -> str | None:
+    """None when CPD can run ``case``'s interface laws, otherwise the one-line reason
+    (the hook ``cases.methods.supported_methods`` asks every solver package)."""
     try:
         check_laws(case)
     except CaseError as e:

@@ -177,3 +177,15 @@ def test_zones_set_the_springs_point_by_point_and_the_jump_profile():
     prof = res.profiles["interface_jump"]
     assert len(prof["s"]) == 11 and np.allclose(prof["x"], 0.0)     # the interface row of the vertex grid
     assert np.all(np.isfinite(prof["jump_t"])) and np.abs(prof["jump_t"]).max() > 0
+
+
+def test_list_and_all_leave_cpd_out_where_it_cannot_run():
+    import cases
+    from cases.methods import resolve_methods, supported_methods
+
+    case = cases.build("two_layer", Dt=3.0)
+    assert supported_methods(case) == ["fem", "mpm", "cpd"] and peridynamics.supports(case) is None
+    case.interfaces[0].law = BilinearNormalInterface(Dn_tension=1.0, Dt=1.0)
+    assert "cpd" not in supported_methods(case) and "cpd" not in resolve_methods(case, "all")
+    with pytest.raises(CaseError, match="BilinearNormalInterface"):
+        resolve_methods(case, "fem,cpd")
