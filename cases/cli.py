@@ -18,7 +18,6 @@ from interfaces import Case, CaseError, SolverError
 
 from . import registry
 from .compare import compare
-from .methods import supported_methods
 from .plots import plot_comparison, plot_sweep
 from .sweep import sweep
 
@@ -81,7 +80,7 @@ def load_case(name: str, sets: dict) -> Case:
 def cmd_list(args) -> int:
     for n in registry.names():
         case = registry.build(n)
-        print(f"{n:<18} [{','.join(supported_methods(case))}] {registry.summary(n)}")
+        print(f"{n:<18} [{','.join(case.methods())}] {registry.summary(n)}")
     return 0
 
 
