@@ -136,7 +136,8 @@ def dls(Dt: float = math.inf, Dn: float = math.inf, variant: str = "002", t: flo
 
 def two_layer(Dt: float = 5.0, Dn: float = math.inf, width: float = 4.0, height: float = 20.0,
               depth: float = 4.0, stress: float = 0.5, E: float = 2400.0, nu: float = 0.33,
-              shift_x: float = 0.0, fem_h: float = 0.25, mpm_cell: float = 0.25, mpm_ppc: int = 2) -> Case:
+              shift_x: float = 0.0, fem_h: float = 0.25, mpm_cell: float = 0.25, mpm_ppc: int = 2,
+              cpd_h: float = 0.1) -> Case:
     """Two identical layers joined by an imperfect interface (000 Fig 4A, Sec 3).
 
     Layers ``width`` x ``height`` (mm) side by side (interface at x = width), depth
@@ -145,6 +146,8 @@ def two_layer(Dt: float = 5.0, Dn: float = math.inf, width: float = 4.0, height:
     Dn = inf, Dt varied (000 Fig 5: interfacial energy per unit volume vs Dt).
     ``shift_x`` moves the specimen against the MPM grid, whose node lines pass through
     the origin (interface on a grid line for shift_x = 0, mid-cell for cell/2: 000 Fig 8).
+    CPD: grid spacing ``cpd_h``, delta = 3.01 h, the compliant overlap on the interface
+    row (overlap delta/4) with lattice-calibrated constants (docs/cpd_interface.md).
     Reference: FEM (no closed form).
     """
     for n, v in (("width", width), ("height", height), ("depth", depth), ("stress", stress)):
@@ -165,7 +168,8 @@ def two_layer(Dt: float = 5.0, Dn: float = math.inf, width: float = 4.0, height:
         measurements={"interface_energy": {"per_volume": 2 * width * height * depth}},
         discretization={"fem": {"element_size": fem_h, "order": 2},
                         "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
-                                "normal_vector": [1.0, 0.0], "grid_anchor": "origin"}},
+                                "normal_vector": [1.0, 0.0], "grid_anchor": "origin"},
+                        "cpd": {"h": cpd_h, "overlap": 0.25, "calibration": "lattice"}},
         reference="fem",
         lines={"across": [[shift_x, 0.75 * height], [shift_x + 2 * width, 0.75 * height]]},
     )
@@ -357,8 +361,8 @@ def cpd_plane_material(C1: float, C2_ratio: float, delta: float) -> IsotropicEla
 
 def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str = "vertical",
                       hole: bool = False, strain_scale: float = 1.0, h: float = 0.01, delta_factor: float = 3.01,
-                      overlap: float = 1.0, fem_h: float = 0.01) -> Case:
-    """Bimaterial unit square of 003 Sec 4.1 (Fig 4-7, 9-12), plane strain, perfect interface.
+                      overlap: float = 1.0, fem_h: float = 0.01, Dn: float = math.inf, Dt: float = math.inf) -> Case:
+    """Bimaterial unit square of 003 Sec 4.1 (Fig 4-7, 9-12), plane strain, interface Dn, Dt.
 
     Square [-0.5, 0.5]^2 split in halves by a ``vertical`` (x = 0), ``horizontal``
     (y = 0) or ``diagonal`` (45 degrees, y = x) interface; material A left/bottom, B
@@ -369,7 +373,9 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
     stretch, shear), scaled by ``strain_scale`` (1000 gives the 100 % stretch of Sec 4.4).
     ``hole``: a centred square hole of side 0.4 (003 Fig 9 bottom). CPD options: grid
     spacing h, delta = delta_factor h, overlap width = ``overlap`` x delta.
-    Reference: plane-strain FEM with a perfect interface.
+    ``Dn``, ``Dt`` (MPa/mm): the interface law (inf = the perfect interface of 003; finite
+    values use the compliant CPD overlap, ``docs/cpd_interface.md``).
+    Reference: plane-strain FEM.
     """
     if parameter_set not in TABLE2:
         raise CaseError(f"parameter_set must be 1, 2, 3 or 4, got {parameter_set!r}")
@@ -397,7 +403,7 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
         description=(f"CPD bimaterial square (003 Sec 4.1): set {parameter_set}, load case "
                      f"{'I' * load_case if load_case < 3 else 'III'}, {interface} interface{', hole' if hole else ''}"),
         materials=mats, bodies=bodies,
-        interfaces=[InterfacePair("A", "B", LinearInterface(math.inf, math.inf))],
+        interfaces=[InterfacePair("A", "B", LinearInterface(Dn, Dt))],
         boundary_conditions=bcs,
         measurements={"strain_energy": {}},
         discretization={"fem": {"element_size": fem_h, "order": 2},
@@ -408,8 +414,8 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
 
 
 def cuboid(interface: str = "vertical", load_case: int = 1, size=(1.0, 1.0, 1.0), h: float = 0.035,
-           delta_factor: float = 3.01) -> Case:
-    """Bimaterial cuboid of 003 Sec 4.5 (Fig 13), 3D, perfect interface.
+           delta_factor: float = 3.01, Dn: float = math.inf, Dt: float = math.inf) -> Case:
+    """Bimaterial cuboid of 003 Sec 4.5 (Fig 13), 3D, interface Dn, Dt (inf: perfect, as in 003).
 
     Material A (nu = 0.1) and B (nu = 0.4, C1^B = 20 C1^A) with C1^A = 1 at
     delta = 3.01 x 0.035, converted by ERRATA 12 (mu = pi C1 delta^4 / 30). Interface
@@ -440,7 +446,7 @@ def cuboid(interface: str = "vertical", load_case: int = 1, size=(1.0, 1.0, 1.0)
         name="cuboid", analysis="3d", thickness=1.0,
         description=f"CPD bimaterial cuboid (003 Sec 4.5), {interface} interface, load case {load_case}",
         materials=mats, bodies=[Body("A", shapes[0], "A"), Body("B", shapes[1], "B")],
-        interfaces=[InterfacePair("A", "B", LinearInterface(math.inf, math.inf))],
+        interfaces=[InterfacePair("A", "B", LinearInterface(Dn, Dt))],
         boundary_conditions=bcs, measurements={"strain_energy": {}},
         discretization={"cpd": {"h": h, "delta_factor": delta_factor, "overlap": 1.0}},
         lines={"axis": [[-sx / 2, 0.0, 0.0], [sx / 2, 0.0, 0.0]]},

@@ -15,8 +15,14 @@ Model (see the module docstrings for the equations):
   materials and share their DOFs (003 Sec 3).
 * ``parameters``: (C1, C2, C3, delta) <-> (lambda, mu) / (E, nu) (ERRATA 12, 003 Eq 25),
   lattice check and optional lattice calibration.
+* ``interface``: the compliant overlap for finite Dn, Dt (beyond 003): the band's points
+  keep separate A and B nodes tied by springs of stiffness (V_p / w)(Dn n n^T + Dt (I - n n^T)),
+  w = band volume / interface measure, so a uniform jump stores exactly the law's energy;
+  perfect directions are identified DOFs (``docs/cpd_interface.md``). Other laws are refused.
 * ``newton``: load steps, Newton-Raphson on the free-DOF residual normalised by its first
-  value in each step (003 Table 3, tol 1e-11), line search, step bisection, SolverError.
+  value in each step (003 Table 3, tol 1e-11), line search, step bisection, SolverError;
+  linear solves by ``interfaces.sparse.DirectSolver`` (PARDISO or SuperLU, chosen at run
+  time, named in ``diagnostics["linear_solver"]["solver"]``) with the symbolic analysis reused.
 
 Public surface: :func:`solve` (Case -> Result) and the parameter conversions.
 Units: mm, N, MPa; 2D quantities are per unit thickness times ``case.thickness``.
@@ -27,7 +33,8 @@ _use_project_cache(__path__[0])  # before any kernel module is imported: cache o
 
 from .parameters import (calibrate,  # noqa: E402 cpd_from_elastic, cpd_from_lame, elastic_from_cpd, lame_from_cpd,
                          lattice_ratios, nu2d_from_nu3d, nu3d_from_nu2d, poisson_2d)
+from .interface import supports  # noqa: E402
 from .solver import solve  # noqa: E402
 
-__all__ = ["solve", "calibrate", "cpd_from_elastic", "cpd_from_lame", "elastic_from_cpd", "lame_from_cpd",
+__all__ = ["solve", "supports", "calibrate", "cpd_from_elastic", "cpd_from_lame", "elastic_from_cpd", "lame_from_cpd",
            "lattice_ratios", "nu2d_from_nu3d", "nu3d_from_nu2d", "poisson_2d"]

@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from .kernels import assemble, horizon_radius2, within
+from .kernels import assemble_blocks, horizon_radius2, within
 
 
 @dataclass
@@ -35,6 +35,38 @@ class MaterialBlock:
     @property
     def multi(self) -> bool:
         return bool(self.C[1] != 0.0 or self.C[2] != 0.0)
+
+
+def colour_blocks(X: np.ndarray, blk: MaterialBlock, delta: float) -> tuple[MaterialBlock, np.ndarray, np.ndarray]:
+    """Central points regrouped into spatial blocks coloured for race-free parallel assembly.
+
+    Cells of side s > 2 delta; colour = parity of the cell indices (4 colours in 2D, 8 in
+    3D). Two blocks of one colour are a full cell apart (> 2 delta), so the node sets
+    {p} + horizon(p) of their central points never meet. Returns the block with its
+    central points sorted by (colour, cell), and the colour and block pointers.
+    """
+    P = X[blk.centers]
+    d = X.shape[1]
+    s = 2.0 * delta * (1.0 + 1e-6)
+    idx = np.floor((P - P.min(axis=0)) / s).astype(np.int64) if len(P) else np.zeros((0, d), np.int64)
+    ncell = idx.max(axis=0) + 1 if len(P) else np.ones(d, np.int64)
+    colour = np.zeros(len(P), np.int64)
+    cell = np.zeros(len(P), np.int64)
+    for k in range(d):
+        colour += (idx[:, k] % 2) << k
+        cell = cell * ncell[k] + idx[:, k]
+    perm = np.lexsort((blk.centers, cell, colour))
+    counts = np.diff(blk.nptr)[perm]
+    nptr = np.zeros(len(perm) + 1, dtype=np.int64)
+    np.cumsum(counts, out=nptr[1:])
+    take = np.repeat(blk.nptr[perm] - nptr[:-1], counts) + np.arange(nptr[-1])
+    sorted_blk = MaterialBlock(blk.name, blk.centers[perm], nptr, blk.nidx[take], blk.C)
+    key = colour[perm] * (int(np.prod(ncell)) + 1) + cell[perm]
+    starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]]) if len(key) else np.zeros(0, np.int64)
+    block_ptr = np.r_[starts, len(key)].astype(np.int64)
+    col_of_block = colour[perm][starts] if len(key) else np.zeros(0, np.int64)
+    color_ptr = np.searchsorted(col_of_block, np.arange(2 ** d + 1)).astype(np.int64)
+    return sorted_blk, color_ptr, block_ptr
 
 
 def neighbour_lists(X: np.ndarray, members: np.ndarray, delta: float):
@@ -90,11 +122,16 @@ class Pattern:
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(n, n))
 
 
-def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float) -> Pattern:
-    """Node pairs that can be coupled by some interaction, union over materials."""
+def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float,
+                  extra: tuple[np.ndarray, np.ndarray] | None = None) -> Pattern:
+    """Node pairs that can be coupled by some interaction, union over materials, plus the
+    ``extra`` node pairs (spring ties of the compliant overlap)."""
     n, d = X.shape
     rows = [np.arange(n, dtype=np.int64)]
     cols = [np.arange(n, dtype=np.int64)]
+    if extra is not None:
+        rows += [extra[0], extra[1]]
+        cols += [extra[1], extra[0]]
     for blk in blocks:
         members = np.unique(np.concatenate([blk.centers, blk.nidx]))
         radius = (2.0 if blk.multi else 1.0) * delta * (1.0 + 1e-9)
@@ -116,11 +153,75 @@ def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float) -> P
 
 @dataclass
 class Evaluation:
+    """``energy`` = bulk + spring energy (what Newton minimises), ``point_energy`` the bulk
+    energy per node, ``spring_energy`` (m,) per spring of the compliant overlap."""
+
     energy: float
     residual: np.ndarray            # (N, d) dW/dx
     point_energy: np.ndarray        # (N,) energy of the interactions of each central point
     tangent: sp.csr_matrix | None
     tuples: dict
+    spring_energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+
+class DofMap:
+    """Independent DOFs of the nodes: full DOF k (node * d + component) is independent
+    DOF ``index[k]``; ``ties`` (t, 2) identify full DOF t[0] with t[1] (perfect directions
+    of the compliant overlap). Without ties it is the identity."""
+
+    def __init__(self, n_full: int, ties: np.ndarray | None = None):
+        idx = np.arange(n_full, dtype=np.int64)
+        if ties is not None and len(ties):
+            idx[ties[:, 0]] = ties[:, 1]
+            idx = idx[idx]                      # ties point at originals, which are not tied
+        uniq, self.index = np.unique(idx, return_inverse=True)
+        self.n = len(uniq)
+        self.identity = self.n == n_full
+
+    def expand(self, u: np.ndarray) -> np.ndarray:
+        return u if self.identity else u[self.index]
+
+    def reduce(self, f: np.ndarray) -> np.ndarray:
+        return f if self.identity else np.bincount(self.index, weights=f, minlength=self.n)
+
+
+class SpringBlock:
+    """The compliant-overlap springs: energy, residual and constant tangent data
+    (the tangent entries are scattered into the fixed pattern once, at construction)."""
+
+    def __init__(self, springs, pattern: Pattern):
+        self.springs = springs
+        d = pattern.d
+        a, b, S = springs.node_a, springs.node_b, springs.S
+        data = np.zeros(pattern.nnz)
+        for r, c, sgn in ((a, a, 1.0), (b, b, 1.0), (a, b, -1.0), (b, a, -1.0)):
+            for al in range(d):
+                for be in range(d):
+                    np.add.at(data, dof_position(pattern, r, c, al, be), sgn * S[:, al, be])
+        self.data = data
+
+    def add(self, u: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """Add the spring forces to f (N, d); return the energy per spring."""
+        sp_ = self.springs
+        g = u[sp_.node_b] - u[sp_.node_a]
+        t = np.einsum("mab,mb->ma", sp_.S, g)
+        np.add.at(f, sp_.node_b, t)
+        np.subtract.at(f, sp_.node_a, t)
+        return 0.5 * np.einsum("ma,ma->m", g, t)
+
+
+def dof_position(pattern: Pattern, r: np.ndarray, c: np.ndarray, al: int, be: int) -> np.ndarray:
+    """Index in the CSR data of entry (r*d + al, c*d + be) for node pairs in the pattern."""
+    d = pattern.d
+    pos = np.empty(len(r), dtype=np.int64)
+    for k, (a, b) in enumerate(zip(r, c)):
+        lo, hi = pattern.rowptr[a], pattern.rowptr[a + 1]
+        kk = lo + np.searchsorted(pattern.cols[lo:hi], b)
+        if kk >= hi or pattern.cols[kk] != b:
+            raise ValueError("spring tie outside the sparsity pattern")
+        nb = hi - lo
+        pos[k] = d * d * lo + al * d * nb + (kk - lo) * d + be
+    return pos
 
 
 class CPDSystem:
@@ -130,12 +231,20 @@ class CPDSystem:
     two materials in the overlap are one node), ``vol`` (N,) point volumes.
     """
 
-    def __init__(self, X: np.ndarray, vol: np.ndarray, blocks: list[MaterialBlock], delta: float):
+    def __init__(self, X: np.ndarray, vol: np.ndarray, blocks: list[MaterialBlock], delta: float,
+                 springs=None, ties: np.ndarray | None = None):
         self.X = np.ascontiguousarray(X, dtype=np.float64)
         self.vol = np.ascontiguousarray(vol, dtype=np.float64)
-        self.blocks = blocks
         self.delta = float(delta)
-        self.pattern = build_pattern(self.X, blocks, delta)
+        coloured = [colour_blocks(self.X, b, self.delta) for b in blocks]
+        self.blocks = [c[0] for c in coloured]
+        self._colours = [(c[1], c[2]) for c in coloured]
+        blocks = self.blocks
+        has_springs = springs is not None and springs.count > 0
+        extra = (springs.node_a, springs.node_b) if has_springs else None
+        self.pattern = build_pattern(self.X, blocks, delta, extra)
+        self.springs = SpringBlock(springs, self.pattern) if has_springs else None
+        self.dofs = DofMap(self.X.size, ties)
         self._cpar = [
             tuple(np.full(len(b.centers), b.C[k], dtype=np.float64) for k in range(3)) for b in blocks
         ]
@@ -156,13 +265,19 @@ class CPDSystem:
         energy = 0.0
         e_node = np.zeros(self.n_nodes)
         counts = {"pairs": 0, "triples": 0, "quadruples": 0}
-        for blk, (c1, c2, c3) in zip(self.blocks, self._cpar):
-            e, n1, n2, n3 = assemble(self.X, u, blk.centers, blk.nptr, blk.nidx, c1, c2, c3,
-                                     self.vol, tangent, self.pattern.rowptr, self.pattern.cols,
-                                     data, f, e_node, horizon_radius2(self.delta))
+        for blk, (c1, c2, c3), (cptr, bptr) in zip(self.blocks, self._cpar, self._colours):
+            e, n1, n2, n3 = assemble_blocks(self.X, u, blk.centers, blk.nptr, blk.nidx, c1, c2, c3,
+                                            self.vol, tangent, self.pattern.rowptr, self.pattern.cols,
+                                            data, f, e_node, horizon_radius2(self.delta), cptr, bptr)
             energy += e
             counts["pairs"] += n1
             counts["triples"] += n2
             counts["quadruples"] += n3
+        e_spring = np.zeros(0)
+        if self.springs is not None:
+            e_spring = self.springs.add(u, f)
+            energy += float(e_spring.sum())
+            if tangent:
+                data += self.springs.data
         K = self.pattern.matrix(data) if tangent else None
-        return Evaluation(energy, f, e_node, K, counts)
+        return Evaluation(energy, f, e_node, K, counts, e_spring)

@@ -73,6 +73,7 @@ class Discretization:
     overlap: float
     prescribed: list = field(default_factory=list)
     tractions: list = field(default_factory=list)
+    copy_of: np.ndarray | None = None   # (N,) original of a compliant-overlap copy node, -1 otherwise
 
     @property
     def dim(self) -> int:

@@ -3,9 +3,10 @@
 Load steps scale the prescribed displacements (and external forces) linearly. Inside a
 step the free DOFs are iterated with the exact tangent; convergence is measured as in
 003 Table 3: the L2 norm of the residual of the free DOFs normalised by its norm at the
-first iteration of the step (right after the boundary increment; from the second step on
-the free DOFs start from a secant extrapolation of the last converged increment), stop
-at ``tol`` (1e-11). A backtracking line search on the energy / residual guards against
+state right after the boundary increment (free DOFs at the last converged state), stop
+at ``tol`` (1e-11); from the second step on the iterations start from a secant
+extrapolation of the last converged increment (for a linear problem its first residual
+is already round-off small, hence the normalisation by the un-extrapolated state). A backtracking line search on the energy / residual guards against
 diverging iterations; a step that still fails is bisected (``max_cuts`` times) before a
 :class:`interfaces.errors.SolverError` is raised saying what to change.
 """
@@ -16,28 +17,58 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import LinearOperator, gmres, splu
+from scipy.sparse.linalg import LinearOperator, gmres
 
 from interfaces.errors import SolverError
+from interfaces.sparse import DirectSolver, SingularMatrixError
 
 from .assembly import CPDSystem
 
 
 class ReducedMatrix:
-    """K_ff of the fixed pattern: index map from the full CSR data to the free-DOF block."""
+    """K_ff over the free independent DOFs, refilled from the fixed pattern's CSR data.
+
+    The map from the full block-CSR data (node DOFs) to the reduced CSR (free independent
+    DOFs, see :class:`~peridynamics.assembly.DofMap`) is built once; each Newton
+    iteration is one gather (or one scatter-add where the compliant overlap identifies
+    DOFs), so the reduced matrix keeps one sparsity pattern for the whole solve and the
+    direct solver's symbolic analysis is reused.
+    """
 
     def __init__(self, system: CPDSystem, free: np.ndarray):
         pat = system.pattern
-        marker = pat.matrix(np.arange(1, pat.nnz + 1, dtype=np.float64))
-        sub = marker[free][:, free].tocsr()
-        sub.sort_indices()
-        self.map = sub.data.astype(np.int64) - 1
-        self.indices = sub.indices
-        self.indptr = sub.indptr
-        self.shape = sub.shape
+        nf = len(free)
+        pos = np.full(system.dofs.n, -1, dtype=np.int64)
+        pos[free] = np.arange(nf)
+        index = system.dofs.index
+        rows = np.repeat(np.arange(len(pat.indptr) - 1, dtype=np.int64), np.diff(pat.indptr))
+        r = pos[index[rows]]
+        c = pos[index[pat.indices.astype(np.int64)]]
+        keep = np.flatnonzero((r >= 0) & (c >= 0))
+        key = r[keep] * nf + c[keep]
+        del rows, r, c
+        order = np.argsort(key, kind="stable")
+        key = key[order]
+        first = np.ones(len(key), dtype=bool)
+        first[1:] = key[1:] != key[:-1]
+        ukey = key[first]
+        self.indices = (ukey % nf).astype(np.int32)
+        self.indptr = np.zeros(nf + 1, dtype=np.int64)
+        np.cumsum(np.bincount(ukey // nf, minlength=nf), out=self.indptr[1:])
+        self.shape = (nf, nf)
+        self.injective = bool(first.all())
+        if self.injective:
+            self.gather = keep[order]
+        else:
+            self.source = keep[order]
+            self.target = np.cumsum(first) - 1
 
     def __call__(self, data: np.ndarray) -> sp.csr_matrix:
-        return sp.csr_matrix((data[self.map], self.indices, self.indptr), shape=self.shape)
+        if self.injective:
+            vals = data[self.gather]
+        else:
+            vals = np.bincount(self.target, weights=data[self.source], minlength=len(self.indices))
+        return sp.csr_matrix((vals, self.indices, self.indptr), shape=self.shape)
 
 
 @dataclass
@@ -65,47 +96,64 @@ class NewtonOutcome:
 
 
 class TangentSolver:
-    """Sparse direct solve of K du = r, with the LU factors reused as a preconditioner.
+    """Sparse direct solve of K du = r, with the factors reused as a preconditioner.
 
-    The first solve (and any solve where the reused factors stop being a good
-    preconditioner) factorises K with SuperLU (minimum-degree ordering on K + K^T,
-    symmetric mode). Later Newton iterations solve the *current* tangent to a relative
-    true residual ``rtol`` by GMRES right-preconditioned with the old factors, which costs
-    two triangular solves and one product with K per Krylov iteration instead of a new
-    factorisation; if GMRES needs more than ``max_krylov`` iterations the tangent has
+    Factorisations go through :class:`interfaces.sparse.DirectSolver` (PARDISO LDL^T
+    where it loads, SuperLU otherwise, chosen at run time; ``name`` says which), whose
+    symbolic analysis is kept as long as the pattern repeats: the reduced tangent has one
+    pattern for the whole solve, so every load step and iteration repeats only the
+    numeric factorisation. Later Newton iterations solve the *current* tangent to a
+    relative true residual ``rtol`` by GMRES right-preconditioned with the old factors
+    (two triangular solves and one product with K per Krylov iteration instead of a new
+    factorisation); if GMRES needs more than ``max_krylov`` iterations the tangent has
     moved too far and K is factorised afresh. The Newton loop asks for a relative linear
     residual of min(1e-3, 1e-2 ||R_k|| / ||R_0||) (an inexact-Newton forcing term that
     preserves the quadratic rate). ``reuse=False`` factorises every iteration.
     """
 
-    def __init__(self, reuse: bool = True, rtol: float = 1e-12, max_krylov: int = 30):
+    def __init__(self, reuse: bool = True, rtol: float = 1e-12, max_krylov: int = 30, kind: str = "auto"):
         self.reuse = reuse
         self.rtol = rtol
         self.max_krylov = max_krylov
-        self.lu = None
+        self.direct = DirectSolver(kind)
+        self.factored = False
         self.stats = {"factorizations": 0, "krylov_solves": 0, "krylov_iterations": 0}
+        self.times = {"factorization": 0.0, "triangular_solves": 0.0, "krylov": 0.0}
+
+    @property
+    def name(self) -> str:
+        return self.direct.name
 
     def _factor(self, K):
-        Kc = K.tocsc()
+        t0 = time.perf_counter()
         try:
-            self.lu = splu(Kc, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                           options=dict(SymmetricMode=True))
-        except RuntimeError:
-            self.lu = splu(Kc, permc_spec="MMD_AT_PLUS_A")
+            self.direct.factorize(K)
+        except SingularMatrixError as e:
+            raise RuntimeError(str(e)) from None
+        self.factored = True
         self.stats["factorizations"] += 1
+        self.times["factorization"] += time.perf_counter() - t0
+
+    def _back(self, r):
+        t0 = time.perf_counter()
+        x = self.direct.solve(r)
+        self.times["triangular_solves"] += time.perf_counter() - t0
+        return x
 
     def _krylov(self, K, r: np.ndarray, rtol: float):
-        lu = self.lu
-        M = LinearOperator(K.shape, matvec=lu.solve, dtype=np.float64)
+        t0 = time.perf_counter()
+        M = LinearOperator(K.shape, matvec=self._back, dtype=np.float64)
         count = [0]
 
         def cb(_):
             count[0] += 1
 
-        x, info = gmres(K, r, x0=lu.solve(r), rtol=0.1 * rtol, atol=0.0, restart=self.max_krylov,
+        x, info = gmres(K, r, x0=self._back(r), rtol=0.1 * rtol, atol=0.0, restart=self.max_krylov,
                         maxiter=1, M=M, callback=cb, callback_type="pr_norm")
         rn = np.linalg.norm(r)
-        if np.all(np.isfinite(x)) and np.linalg.norm(r - K @ x) <= rtol * rn:
+        ok = np.all(np.isfinite(x)) and np.linalg.norm(r - K @ x) <= rtol * rn
+        self.times["krylov"] += time.perf_counter() - t0
+        if ok:
             self.stats["krylov_solves"] += 1
             self.stats["krylov_iterations"] += count[0]
             return x
@@ -113,100 +161,147 @@ class TangentSolver:
 
     def solve(self, K, r: np.ndarray, rtol: float | None = None) -> np.ndarray:
         """Solve K x = r to the relative residual ``rtol`` (default ``self.rtol``)."""
-        if self.lu is not None and self.reuse:
+        if self.factored and self.reuse:
             x = self._krylov(K, r, self.rtol if rtol is None else max(rtol, self.rtol))
             if x is not None:
                 return x
         self._factor(K)
-        x = self.lu.solve(r)
-        # one step of iterative refinement against the unpivoted factorisation
-        x += self.lu.solve(r - K @ x)
+        x = self._back(r)
+        # one step of iterative refinement
+        x += self._back(r - K @ x)
         return x
 
 
+@dataclass
+class StepFailure:
+    """Why one attempt at a load step failed, with that attempt's own history."""
+
+    load: float
+    residuals: list
+    reason: str
+
+
+def _advice(f: StepFailure) -> str:
+    if "collapsed" in f.reason or "coincide" in f.reason:
+        return "increase load_steps or reduce the load (points were crushed)"
+    if "singular" in f.reason.lower():
+        return ("check that the prescribed displacements remove every rigid-body motion of every body "
+                "(a debonded interface, Dn = Dt = 0, leaves a body free)")
+    if "max_iter" in f.reason:
+        return "increase load_steps or max_iter, or loosen tol"
+    return "increase load_steps, loosen tol, or check for points crushed by a too-large deformation"
+
+
 def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
-                 f_ext: np.ndarray, opts: NewtonOptions, u0: np.ndarray | None = None) -> NewtonOutcome:
+                 f_ext: np.ndarray, opts: NewtonOptions, u0: np.ndarray | None = None,
+                 solver: str = "auto") -> NewtonOutcome:
     """Solve for the free displacements under prescribed ``u_bar`` on ``fixed_dofs``.
 
-    ``u_bar`` and ``f_ext`` are full DOF vectors at load factor 1.
+    ``u_bar`` and ``f_ext`` are full (node) DOF vectors at load factor 1; the unknowns
+    are the system's independent DOFs (``system.dofs``: the compliant overlap identifies
+    the DOFs of perfect directions). ``u0`` and the returned ``u`` are full DOF vectors.
     """
-    n = system.n_nodes * system.dim
-    free = np.setdiff1d(np.arange(n), fixed_dofs)
+    dofs = system.dofs
+    fixed = np.unique(dofs.index[fixed_dofs])
+    free = np.setdiff1d(np.arange(dofs.n), fixed)
+    ubar = np.zeros(dofs.n)
+    ubar[dofs.index[fixed_dofs]] = u_bar[fixed_dofs]
+    fext = dofs.reduce(np.asarray(f_ext, dtype=float))
     red = ReducedMatrix(system, free)
-    u = np.zeros(n) if u0 is None else u0.astype(float).ravel().copy()
+    u = np.zeros(dofs.n)
+    if u0 is not None:
+        u[dofs.index] = u0.astype(float).ravel()
     out = NewtonOutcome(u=u)
-    lin = TangentSolver(reuse=opts.reuse_factorization)
+    lin = TangentSolver(reuse=opts.reuse_factorization, kind=solver)
     prev = {"u": None, "lam": 0.0}
     t = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
+    failures: list[StepFailure] = []
 
     def evaluate(v, tangent):
         t0 = time.perf_counter()
-        ev = system.evaluate(v, tangent)
+        ev = system.evaluate(dofs.expand(v), tangent)
         t["assembly" if tangent else "line_search"] += time.perf_counter() - t0
         return ev
 
+    def residual(ev):
+        return dofs.reduce(ev.residual.ravel())
+
     def attempt(lam0, lam1):
-        """Newton iterations from load factor lam0 to lam1; returns (u, residual list) or None."""
+        """Newton iterations from load factor lam0 to lam1: (u, residuals, ev, steps) or a StepFailure."""
         v = u.copy()
-        if opts.extrapolate and prev["u"] is not None and lam0 > prev["lam"]:
-            # secant predictor: continue the last converged increment (free DOFs)
-            v[free] += (lam1 - lam0) / (lam0 - prev["lam"]) * (u[free] - prev["u"][free])
-        v[fixed_dofs] = lam1 * u_bar[fixed_dofs]
+        v[fixed] = lam1 * ubar[fixed]
         res_hist = []
         steps = []
         scale = None
+
+        def fail(reason):
+            return StepFailure(lam1, res_hist, reason)
+
+        if opts.extrapolate and prev["u"] is not None and lam0 > prev["lam"]:
+            # the normalisation is the residual right after the boundary increment (003
+            # Table 3); the secant predictor below can make the first residual itself
+            # round-off small (linear problems), which would make tol unreachable
+            try:
+                scale = float(np.linalg.norm(residual(evaluate(v, False))[free] - lam1 * fext[free]))
+            except ValueError:
+                scale = None
+            # secant predictor: continue the last converged increment (free DOFs)
+            v[free] += (lam1 - lam0) / (lam0 - prev["lam"]) * (u[free] - prev["u"][free])
+
         try:
             ev = evaluate(v, True)
-        except ValueError:
-            return None
+        except ValueError as e:
+            return fail(f"start of step: {e}")
         for it in range(opts.max_iter + 1):
-            R = ev.residual.ravel()[free] - lam1 * f_ext[free]
+            R = residual(ev)[free] - lam1 * fext[free]
             rn = float(np.linalg.norm(R))
             if not np.isfinite(rn):
-                return None
-            if scale is None:
+                return fail("non-finite residual")
+            if scale is None or not scale > 0:
                 scale = max(rn, 1e-300)
             res_hist.append(rn / scale)
             if rn <= opts.tol * scale or rn == 0.0:
                 return v, res_hist, ev, steps
             if it == opts.max_iter:
-                return None
+                return fail(f"max_iter = {opts.max_iter} reached")
             t0 = time.perf_counter()
             try:
                 # forcing term of an inexact Newton method: the linear error stays below
                 # 1 % of the current (normalised) residual, which keeps the quadratic rate
                 du = lin.solve(red(ev.tangent.data), -R, rtol=min(1e-3, 1e-2 * rn / scale))
-            except RuntimeError:
-                return None
+            except RuntimeError as e:
+                return fail(f"singular tangent ({e})")
             t["linear_solve"] += time.perf_counter() - t0
             if not np.all(np.isfinite(du)):
-                return None
+                return fail("non-finite Newton increment (singular tangent)")
             # full Newton step, evaluated with the tangent (reused by the next iteration
             # when accepted); backtracking with energy-only evaluations otherwise
-            w0 = ev.energy - lam1 * float(f_ext[free] @ v[free])
+            w0 = ev.energy - lam1 * float(fext[free] @ v[free])
             alpha = 1.0
             accepted = None
+            why = "line search found no decrease"
             for trial_no in range(9 if opts.line_search else 1):
                 trial = v.copy()
                 trial[free] += alpha * du
                 try:
                     et = evaluate(trial, trial_no == 0)
-                except ValueError:              # points collapsed: shorten the step
+                except ValueError as e:          # points collapsed: shorten the step
+                    why = f"line search: {e}"
                     alpha *= 0.5
                     continue
-                rt = np.linalg.norm(et.residual.ravel()[free] - lam1 * f_ext[free])
-                wt = et.energy - lam1 * float(f_ext[free] @ trial[free])
+                rt = np.linalg.norm(residual(et)[free] - lam1 * fext[free])
+                wt = et.energy - lam1 * float(fext[free] @ trial[free])
                 if not opts.line_search or (np.isfinite(rt) and (rt < rn or wt <= w0)):
                     accepted = (trial, et)
                     break
                 alpha *= 0.5
             if accepted is None:
-                return None
+                return fail(why)
             v, ev = accepted
             if ev.tangent is None:
                 ev = evaluate(v, True)
             steps.append(alpha)
-        return None
+        return fail(f"max_iter = {opts.max_iter} reached")
 
     targets = list(opts.load_factors) if opts.load_factors else \
         [k / opts.load_steps for k in range(1, opts.load_steps + 1)]
@@ -215,14 +310,16 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     while targets:
         target = targets[0]
         got = attempt(lam, target)
-        if got is None:
+        if isinstance(got, StepFailure):
+            failures.append(got)
             cuts += 1
             if cuts > opts.max_cuts:
+                f = failures[-1]
+                hist = ", ".join(f"{r:.3g}" for r in f.residuals)
                 raise SolverError(
-                    f"CPD Newton-Raphson did not converge to tol = {opts.tol:g} at load factor {target:.4g} "
-                    f"after {opts.max_cuts} step cuts (last history: "
-                    f"{out.history[-1]['residuals'] if out.history else []}); increase load_steps, "
-                    "loosen tol, or check for points crushed by a too-large deformation")
+                    f"CPD Newton-Raphson did not converge to tol = {opts.tol:g} at load factor {f.load:.4g} "
+                    f"after {opts.max_cuts} step cuts (failing step: {f.reason}; its normalised residuals "
+                    f"[{hist}]); {_advice(f)}")
             targets.insert(0, 0.5 * (lam + target))      # bisect the step
             continue
         u, hist, ev, alphas = got
@@ -233,7 +330,9 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
         out.u = u
         lam = target
         targets.pop(0)
-    out.u = u
+    out.u = dofs.expand(u)
     out.timings = t
-    out.linear = lin.stats
+    out.linear = dict(lin.stats, solver=lin.name, symbolic_analyses=lin.direct.stats["analyses"], **{f"time_{k}": v for k, v in lin.times.items()},
+                      failed_attempts=[{"load": f.load, "reason": f.reason, "residuals": f.residuals}
+                                       for f in failures])
     return out

@@ -19,8 +19,11 @@ from scipy.interpolate import RegularGridInterpolator
 from interfaces import Result
 from interfaces.errors import CaseError, check_number
 
+from interfaces.sparse import KINDS
+
 from .assembly import CPDSystem, MaterialBlock, neighbour_lists
 from .discretization import Discretization, discretize
+from .interface import Springs, check_laws, split_band
 from .newton import NewtonOptions, newton_solve
 from .parameters import calibrate, cpd_from_lame, lattice_ratios
 
@@ -28,7 +31,7 @@ from .parameters import calibrate, cpd_from_lame, lattice_ratios
 TUPLE_WARNING = 3e8
 
 OPTIONS = ("h", "delta_factor", "overlap", "load_steps", "tol", "max_iter", "calibration",
-           "constants", "line_search", "grid")
+           "constants", "line_search", "grid", "solver")
 
 
 def material_constants(case, body, delta: float) -> tuple[float, float, float]:
@@ -78,13 +81,19 @@ def _options(case, options: dict) -> dict:
     cal = o.get("calibration", "continuum")
     if cal not in ("continuum", "lattice"):
         raise CaseError(f"cpd.calibration must be 'continuum' or 'lattice', got {cal!r}")
+    kind = o.get("solver", "auto")
+    if kind not in KINDS:
+        raise CaseError(f"cpd.solver must be one of {', '.join(KINDS)}, got {kind!r}")
     return {"h": h, "delta_factor": df, "overlap": ov, "load_steps": steps, "tol": tol,
             "max_iter": int(max_iter), "calibration": cal, "constants": o.get("constants"),
-            "line_search": bool(o.get("line_search", True)), "grid": o.get("grid", "vertex")}
+            "line_search": bool(o.get("line_search", True)), "grid": o.get("grid", "vertex"),
+            "solver": kind}
 
 
-def build_system(case, disc: Discretization, calibration: str, constants: dict | None):
-    """Material blocks (central points, horizons, constants) and the CPD system."""
+def build_system(case, disc: Discretization, calibration: str, constants: dict | None,
+                 springs: Springs | None = None, ties: np.ndarray | None = None):
+    """Material blocks (central points, horizons, constants) and the CPD system (with the
+    compliant-overlap ``springs`` and DOF ``ties`` of :func:`peridynamics.interface.split_band`)."""
     blocks, used = [], {}
     for k, body in enumerate(case.bodies):
         if constants is not None and body.material in constants:
@@ -100,7 +109,7 @@ def build_system(case, disc: Discretization, calibration: str, constants: dict |
         nptr, nidx = neighbour_lists(disc.X, members, disc.delta)
         blocks.append(MaterialBlock(body.name, members.astype(np.int64), nptr, nidx, np.asarray(C, float)))
         used[body.name] = {"C1": C[0], "C2": C[1], "C3": C[2]}
-    return CPDSystem(disc.X, disc.vol, blocks, disc.delta), used
+    return CPDSystem(disc.X, disc.vol, blocks, disc.delta, springs, ties), used
 
 
 def boundary_vectors(disc: Discretization):
@@ -150,6 +159,8 @@ def line_profiles(case, disc: Discretization, U: np.ndarray) -> dict:
     """
     d = disc.dim
     body = ~disc.layer
+    if disc.copy_of is not None:
+        body &= disc.copy_of < 0          # compliant-overlap copies sit on their originals
     Xb, Ub = disc.X[body], U[body]
     x0 = Xb.min(axis=0)
     idx = np.rint((Xb - x0) / disc.h).astype(np.int64)
@@ -180,6 +191,41 @@ def line_profiles(case, disc: Discretization, U: np.ndarray) -> dict:
     return out
 
 
+def interface_profiles(case, disc: Discretization, springs: Springs, U: np.ndarray) -> dict:
+    """Jumps [u] = u_b - u_a of the compliant overlap along each pair's sharp interface.
+
+    The springs of the body points nearest to the interface (the band row(s) at the
+    smallest distance) are sampled; 2D jump_t along t = (-n_y, n_x), 3D its magnitude.
+    """
+    out = {}
+    d = disc.dim
+    for ip, pair in enumerate(case.interfaces):
+        sel = np.flatnonzero((springs.pair == ip) & springs.counted)
+        if len(sel) == 0:
+            continue
+        Xs = disc.X[springs.node_a[sel]]
+        n = springs.normal[sel]
+        off = np.abs(np.einsum("md,md->m", Xs, n) - np.median(np.einsum("md,md->m", Xs, n)))
+        near = off <= off.min() + 0.5 * disc.h          # the band row(s) nearest the interface
+        sel, Xs, n = sel[near], Xs[near], n[near]
+        g = U[springs.node_b[sel]] - U[springs.node_a[sel]]
+        jn = np.einsum("md,md->m", g, n)
+        gt = g - jn[:, None] * n
+        if d == 2:
+            tvec = np.stack([-n[:, 1], n[:, 0]], axis=1)
+            jt = np.einsum("md,md->m", gt, tvec)
+        else:
+            jt = np.linalg.norm(gt, axis=1)
+        order = np.lexsort(Xs.T[::-1])
+        Xs, jn, jt = Xs[order], jn[order], jt[order]
+        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(Xs, axis=0), axis=1))])
+        prof = {"s": s, "jump_n": jn, "jump_t": jt}
+        for c, lab in enumerate("xyz"[:d]):
+            prof[lab] = Xs[:, c]
+        out["interface_jump" if ip == 0 else f"interface_jump[{pair.a}|{pair.b}]"] = prof
+    return out
+
+
 def solve(case, **options) -> Result:
     """Solve ``case`` with implicit CPD and the kinematically coupled overlap interface (003).
 
@@ -203,18 +249,20 @@ def solve(case, **options) -> Result:
     Newton history per load step, tuple counts, constants, lattice ratios.
     """
     t_start = time.perf_counter()
+    check_laws(case)
     o = _options(case, options)
     h = o["h"]
     delta = o["delta_factor"] * h
     timings = {}
     t0 = time.perf_counter()
     disc = discretize(case, h, delta, o["overlap"] * delta, o["grid"])
+    disc, springs, ties = split_band(case, disc)
     timings["discretize"] = time.perf_counter() - t0
     if not disc.prescribed:
         raise CaseError("boundary_conditions: CPD needs at least one prescribed displacement (fixed, "
                         "displacement or deformation_gradient) to remove rigid-body motion")
     t0 = time.perf_counter()
-    system, used = build_system(case, disc, o["calibration"], o["constants"])
+    system, used = build_system(case, disc, o["calibration"], o["constants"], springs, ties)
     timings["neighbours_pattern"] = time.perf_counter() - t0
     fixed, u_bar, f_ext = boundary_vectors(disc)
     est = estimate_tuples(system)
@@ -228,16 +276,23 @@ def solve(case, **options) -> Result:
                          load_factors=ls if isinstance(ls, tuple) else (), tol=o["tol"],
                          max_iter=o["max_iter"], line_search=o["line_search"])
     t0 = time.perf_counter()
-    outcome = newton_solve(system, fixed, u_bar, f_ext, nopt)
+    outcome = newton_solve(system, fixed, u_bar, f_ext, nopt, solver=o["solver"])
     timings["newton"] = time.perf_counter() - t0
     timings.update(outcome.timings)
     d = disc.dim
     U = outcome.u.reshape(-1, d)
     ev = outcome.last
     thick = case.thickness if d == 2 else 1.0
+    e_bulk = float(ev.point_energy.sum())
     q = {"strain_energy": float(ev.point_energy[~disc.layer].sum()) * thick,
-         "strain_energy_with_layers": ev.energy * thick, "iterations": float(outcome.iterations),
+         "strain_energy_with_layers": e_bulk * thick, "iterations": float(outcome.iterations),
          "load_steps": float(len(outcome.history))}
+    if springs.count:
+        q["interface_energy"] = float(ev.spring_energy[springs.counted].sum()) * thick
+        q["interface_energy_with_layers"] = float(ev.spring_energy.sum()) * thick
+        per_volume = case.measurements.get("interface_energy", {}).get("per_volume")
+        if per_volume:
+            q["interface_energy_per_volume"] = q["interface_energy"] / float(per_volume)
     fint = ev.residual
     for ps in disc.prescribed:
         tag = ("all" if ps.bc.body == "*" else ps.bc.body) + "_" + ps.bc.side
@@ -247,11 +302,6 @@ def solve(case, **options) -> Result:
     if disc.tractions:
         q["external_work"] = float(f_ext @ outcome.u) * thick
     notes = []
-    for pair in case.interfaces:
-        law = pair.law
-        if not (getattr(law, "perfect_normal", True) and getattr(law, "perfect_tangential", True)):
-            notes.append(f"interface {pair.a}-{pair.b}: the CPD overlap interface is perfectly bonded "
-                            f"(003 Sec 3); the law {law!r} is not represented")
     try:
         ratios = {k: float(v) for k, v in lattice_ratios(h, delta, d).__dict__.items()}
     except Exception as e:  # pragma: no cover - diagnostics only
@@ -264,6 +314,8 @@ def solve(case, **options) -> Result:
         "h": h, "delta": delta, "overlap": o["overlap"] * delta,
         "n_points": int(len(disc.X)), "n_layer_points": int(disc.layer.sum()),
         "n_shared_points": int((disc.member.sum(axis=1) > 1).sum()),
+        "n_interface_springs": int(springs.count), "n_tied_dofs": int(len(ties)),
+        "n_independent_dofs": int(system.dofs.n),
         "n_dofs": int(len(disc.X) * d), "n_free_dofs": int(len(disc.X) * d - len(fixed)),
         "tangent_nnz": int(system.pattern.nnz), "tuples": ev.tuples,
         "constants": used, "calibration": o["calibration"], "lattice_ratios": ratios,
@@ -273,6 +325,8 @@ def solve(case, **options) -> Result:
               "material": disc.material_id.astype(np.int64),
               "energy_density": ev.point_energy / disc.vol, "boundary_layer": disc.layer.astype(np.int64)}
     profiles = line_profiles(case, disc, U) if case.lines else {}
+    if springs.count:
+        profiles.update(interface_profiles(case, disc, springs, U))
     timings["total"] = time.perf_counter() - t_start
     return Result(method="cpd", case_name=case.name, quantities=q, fields=fields, profiles=profiles,
                   timings=timings, diagnostics=diagnostics)

@@ -145,9 +145,11 @@ def _table3(h):
     res = peridynamics.solve(case, h=h, load_steps=[0.01, 0.25, 0.5, 0.75, 1.0])
     hist = res.diagnostics["newton_history"]
     assert [s["load"] for s in hist] == [0.01, 0.25, 0.5, 0.75, 1.0]
-    for step in hist:
+    for k, step in enumerate(hist):
         r = step["residuals"]
-        assert r[0] == 1.0 and r[-1] <= 1e-11
+        # normalised by the state right after the boundary increment; later steps start
+        # from the secant predictor, which lowers the first residual
+        assert (r[0] == 1.0 if k == 0 else r[0] < 1.0) and r[-1] <= 1e-11
         assert len(r) - 1 <= 7                              # 003 Table 3: 4 iterations per step
         # quadratic rate in the asymptotic range (above round-off)
         for a, b in zip(r[:-1], r[1:]):
