@@ -45,8 +45,8 @@ def test_run_analytic_writes_results_csv_and_png(tmp_path, capsys):
 def test_bad_override_and_unsupported_method_are_one_line_errors(tmp_path, capsys):
     assert main(["run", "dls", "--set", "Dt=-1", "--out", str(tmp_path)]) == 2
     assert capsys.readouterr().err.strip() == "error: dls: Dt must be >= 0, got -1"
-    assert main(["run", "two_layer", "--methods", "cpd", "--out", str(tmp_path)]) == 2
-    assert "does not support case 'two_layer'" in capsys.readouterr().err
+    assert main(["run", "inclusion", "--methods", "mpm", "--out", str(tmp_path)]) == 2
+    assert "does not support case 'inclusion'" in capsys.readouterr().err
 
 
 def test_compare_relative_differences_against_reference():
