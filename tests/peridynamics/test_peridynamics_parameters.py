@@ -114,13 +114,90 @@ def test_lattice_energy_density_against_direct_sum():
     L = np.linalg.norm(off, axis=1)
     l = np.linalg.norm(off + off @ H.T, axis=1)
     w1 = np.sum(0.5 * 0.5 * L * (l / L - 1) ** 2 * V)            # C1 = 1, per unit volume of p
-    assert _interior_energy_density(h, delta, 2, (1.0, 0.0, 0.0), H) == pytest.approx(w1, rel=1e-10)
+    assert _interior_energy_density(h, delta, 2, (1.0, 0.0, 0.0), H) == pytest.approx(w1, rel=1e-10, abs=0.0)
     i, j = np.triu_indices(len(off), 1)
     A = np.abs(off[i, 0] * off[j, 1] - off[i, 1] * off[j, 0])
     keep = A > 1e-8 * L[i] * L[j]
     J = np.linalg.det(np.eye(2) + H)
     w2 = np.sum((2 / 3) * 0.5 * A[keep] * (J - 1) ** 2 * V * V)   # a/A = J exactly, C2 = 1
-    assert _interior_energy_density(h, delta, 2, (0.0, 1.0, 0.0), H) == pytest.approx(w2, rel=1e-8)
+    assert _interior_energy_density(h, delta, 2, (0.0, 1.0, 0.0), H) == pytest.approx(w2, rel=1e-8, abs=0.0)
+
+
+def test_lattice_energy_density_3d_against_direct_sum():
+    """3D: the kernel's interior energy density of pairs and quadruples equals an
+    independent numpy sum over the centre's neighbour tuples (each unordered triple of
+    neighbours once, weight 3/2 = multiplicity 6 x 1/4, 003 Eq 7-10). A wrong tuple
+    multiplicity in the kernels (e.g. 1 in place of the number of vertices whose horizon
+    holds the tetrahedron) changes the quadruple part by that factor."""
+    h, delta, e = 0.01, 0.0201, 1e-4
+    H = np.array([[e, 0.2 * e, 0.0], [0.2 * e, -0.4 * e, 0.1 * e], [0.0, 0.1 * e, 0.3 * e]])
+    m = 3
+    ax = h * np.arange(-m, m + 1)
+    off = np.stack(np.meshgrid(ax, ax, ax, indexing="ij"), axis=-1).reshape(-1, 3)
+    L = np.linalg.norm(off, axis=1)
+    off = off[(L <= delta) & (L > 0)]
+    L = np.linalg.norm(off, axis=1)
+    V = h ** 3
+    l = np.linalg.norm(off + off @ H.T, axis=1)
+    w1 = np.sum(0.5 * 0.5 * L * (l / L - 1) ** 2 * V)
+    assert _interior_energy_density(h, delta, 3, (1.0, 0.0, 0.0), H) == pytest.approx(w1, rel=1e-10, abs=0.0)
+    from itertools import combinations
+    idx = np.array(list(combinations(range(len(off)), 3)))
+    Vt = np.abs(np.einsum("ij,ij->i", np.cross(off[idx[:, 0]], off[idx[:, 1]]), off[idx[:, 2]]))
+    keep = Vt > 1e-8 * L[idx].prod(axis=1)
+    J = np.linalg.det(np.eye(3) + H)
+    w3 = np.sum(1.5 * 0.5 * Vt[keep] * (J - 1) ** 2 * V ** 3)    # v/V = J exactly, C3 = 1
+    assert _interior_energy_density(h, delta, 3, (0.0, 0.0, 1.0), H) == pytest.approx(w3, rel=1e-8, abs=0.0)
+
+
+@pytest.mark.parametrize("dim,C", [(2, (0.7, 0.0, 0.0)), (2, (0.0, 1.3, 0.0)),
+                                   (3, (0.7, 0.0, 0.0)), (3, (0.0, 0.0, 1.9))])
+def test_patch_energy_against_direct_sum_over_every_central_point(dim, C):
+    """Total energy W = sum_p V_p w_p of a small lattice patch under u = H X (003 Eq 7):
+    the kernel (which evaluates a triangle / tetrahedron once, weighted by the number of
+    its vertices whose horizon holds it) against a numpy sum over every central point
+    and every pair / unordered pair / triple of its neighbours (weights 1/2, 2/3, 3/2).
+    Catches a wrong tuple multiplicity, which the per-point energies cannot see."""
+    from itertools import combinations
+
+    from peridynamics.assembly import neighbour_lists
+    from peridynamics.kernels import assemble, horizon_radius2
+
+    h, delta, e = 0.01, 2.01 * 0.01, 1e-4
+    H = (np.array([[e, 0.2 * e], [0.2 * e, -0.4 * e]]) if dim == 2 else
+         np.array([[e, 0.2 * e, 0.0], [0.2 * e, -0.4 * e, 0.1 * e], [0.0, 0.1 * e, 0.3 * e]]))
+    ax = h * np.arange(-2, 3)
+    X = np.stack(np.meshgrid(*([ax] * dim), indexing="ij"), axis=-1).reshape(-1, dim)
+    V = h ** dim
+    J = np.linalg.det(np.eye(dim) + H)
+    expected = 0.0      # one interaction type at a time: their energies differ by powers of V
+    for p in range(len(X)):
+        off = X - X[p]
+        L = np.linalg.norm(off, axis=1)
+        nb = off[(L > 0) & (L <= delta * (1 + 1e-9))]
+        Ln = np.linalg.norm(nb, axis=1)
+        ln = np.linalg.norm(nb + nb @ H.T, axis=1)
+        expected += V * np.sum(0.5 * 0.5 * C[0] * Ln * (ln / Ln - 1) ** 2 * V)
+        if dim == 2:
+            for i, j in combinations(range(len(nb)), 2):
+                A = abs(nb[i, 0] * nb[j, 1] - nb[i, 1] * nb[j, 0])
+                if A > 1e-8 * Ln[i] * Ln[j]:
+                    expected += V * (2 / 3) * 0.5 * C[1] * A * (J - 1) ** 2 * V * V
+        else:
+            for i, j, k in combinations(range(len(nb)), 3):
+                Vt = abs(np.cross(nb[i], nb[j]) @ nb[k])
+                if Vt > 1e-8 * Ln[i] * Ln[j] * Ln[k]:
+                    expected += V * 1.5 * 0.5 * C[2] * Vt * (J - 1) ** 2 * V ** 3
+    members = np.arange(len(X), dtype=np.int64)
+    nptr, nidx = neighbour_lists(X, members, delta)
+    f = np.zeros_like(X)
+    e_node = np.zeros(len(X))
+    Cs = [np.full(len(X), C[k]) for k in range(3)]
+    out = assemble(X, X @ H.T, members, nptr, nidx, Cs[0], Cs[1], Cs[2], np.full(len(X), V), False,
+                   np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(0), f, e_node,
+                   horizon_radius2(delta))
+    assert out[0] == pytest.approx(expected, rel=1e-9, abs=0.0)
+    assert e_node.sum() == pytest.approx(expected, rel=1e-9, abs=0.0)
 
 
 @pytest.mark.parametrize("dim,h,dfac", [(2, 0.01, 3.01), (2, 0.01, 5.01), (3, 0.035, 3.01)])
