@@ -27,7 +27,7 @@ class ProgressBar:
             try:
                 from tqdm import tqdm
                 self._bar = tqdm(total=_RESOLUTION, desc=label, file=self.stream, dynamic_ncols=True,
-                                 bar_format="{desc} {percentage:5.1f}%|{bar}| {elapsed}<{remaining} {postfix}",
+                                 bar_format="{desc} {percentage:5.1f}%|{bar}| {elapsed}<{remaining}{postfix}",
                                  mininterval=0.25)
             except ImportError:          # plain fallback
                 self._bar = None
