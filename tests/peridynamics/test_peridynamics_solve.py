@@ -286,4 +286,11 @@ def test_large_runs_warn_before_solving(monkeypatch):
     case = _square(parameter_set=3, load_case=1)
     with pytest.warns(RuntimeWarning, match="triples"):
         res = peridynamics.solve(case, h=0.1)
-    assert res.diagnostics["warnings"] == []
+    assert not any("triples" in w for w in res.diagnostics["warnings"])   # warned once, before the solve
+
+
+def test_overlap_band_energy_is_flagged_beside_fem():
+    """The overlap band holds both materials' energy (003 Sec 3): the Result says so, so a
+    table that sets CPD's strain energy beside FEM's does not mislead."""
+    res = peridynamics.solve(_square(parameter_set=4, load_case=1), h=0.1)
+    assert any("overlap band" in w for w in res.diagnostics["warnings"])
