@@ -566,8 +566,8 @@ def _list(v, where: str) -> list:
 
 
 def _str(v, where: str) -> str:
-    if not isinstance(v, str) or not v:
-        raise CaseError(f"{where} must be a non-empty string, got {v!r}")
+    if not isinstance(v, str) or not v or not v.isprintable():
+        raise CaseError(f"{where} must be a non-empty string of printable characters, got {v!r}")
     return v
 
 
