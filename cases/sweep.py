@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from interfaces import CaseError, SolverError
+from interfaces.case import encode_values
 
 from .methods import resolve_methods, run
 from .output import atomic_write_text
@@ -102,7 +103,7 @@ class Sweep:
         return "\n".join(lines)
 
     def to_json(self, path=None) -> str:
-        text = json.dumps({"case": self.case_name, "param": self.param, "values": _jsonable(self.values),
+        text = json.dumps({"case": self.case_name, "param": self.param, "values": encode_values(self.values),
                            "methods": self.methods, "points": self.points}, indent=1, default=str)
         if path is not None:
             atomic_write_text(path, text)
@@ -140,8 +141,8 @@ def sweep(case_name: str, param: str, values, methods="all", fixed: dict | None 
         raise CaseError("values must list at least one parameter value")
     base = build(case_name, **fixed, **{param: values[0]})
     mlist = resolve_methods(base, methods)
-    spec = {"case": case_name, "param": param, "values": _jsonable(values), "methods": mlist,
-            "fixed": _jsonable(fixed), "options": _jsonable(options)}
+    spec = {"case": case_name, "param": param, "values": encode_values(values), "methods": mlist,
+            "fixed": encode_values(fixed), "options": encode_values(options)}
     points: list = [None] * len(values)
     record = Path(record_dir) if record_dir is not None else None
     if record is not None:
@@ -153,7 +154,7 @@ def sweep(case_name: str, param: str, values, methods="all", fixed: dict | None 
         points[i] = point
         if record is not None:
             atomic_write_text(record / "points" / f"point_{i:03d}.json",
-                              json.dumps({"index": i, "value": _jsonable(values[i]), "point": point},
+                              json.dumps({"index": i, "value": encode_values(values[i]), "point": point},
                                          default=str))
 
     bar = _progress(len(values), len(values) - len(todo), f"{case_name} {param}", progress)
@@ -259,14 +260,3 @@ def _progress(total: int, done: int, label: str, enabled: bool):
     except ImportError:
         return _NoBar()
     return tqdm(total=total, initial=done, desc=label, unit="point", file=sys.stderr, dynamic_ncols=True)
-
-
-def _jsonable(x):
-    """inf -> "inf" (JSON has no infinity), recursively; other values unchanged."""
-    if isinstance(x, float) and math.isinf(x):
-        return "inf" if x > 0 else "-inf"
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, dict):
-        return {k: _jsonable(v) for k, v in x.items()}
-    return x

@@ -451,12 +451,12 @@ class Case:
             "bodies": [b.to_dict() for b in self.bodies],
             "interfaces": [p.to_dict() for p in self.interfaces],
             "boundary_conditions": [bc.to_dict() for bc in self.boundary_conditions],
-            "measurements": _encode(self.measurements),
-            "discretization": _encode(self.discretization),
+            "measurements": encode_values(self.measurements),
+            "discretization": encode_values(self.discretization),
             "lines": {k: [list(map(float, p)) for p in v] for k, v in self.lines.items()},
         }
         if self.analytic is not None:
-            d["analytic"] = _encode(self.analytic)
+            d["analytic"] = encode_values(self.analytic)
         if self.reference is not None:
             d["reference"] = self.reference
         return d
@@ -585,12 +585,13 @@ def _require(d, keys, where: str) -> None:
             raise CaseError(f"{where}.{k} is missing")
 
 
-def _encode(obj):
-    """TOML has no inf/None: store inf as the string 'inf'; tuples as lists."""
+def encode_values(obj):
+    """TOML and JSON have no inf/None: inf as the string "inf", None entries dropped, tuples as
+    lists, numpy scalars as Python numbers (case files, sweep records)."""
     if isinstance(obj, dict):
-        return {k: _encode(v) for k, v in obj.items() if v is not None}
+        return {k: encode_values(v) for k, v in obj.items() if v is not None}
     if isinstance(obj, (list, tuple)):
-        return [_encode(v) for v in obj]
+        return [encode_values(v) for v in obj]
     if isinstance(obj, float) and math.isinf(obj):
         return "inf" if obj > 0 else "-inf"
     if isinstance(obj, np.generic):
