@@ -58,10 +58,7 @@ def mutated_case(draw):
         parent = parent[k]
     key = path[-1]
     if action == "delete":
-        if isinstance(parent, list):
-            parent.pop(key)
-        else:
-            parent.pop(key)
+        parent.pop(key)                  # list index or table key
     elif action == "unknown" and isinstance(parent, dict):
         parent["bogus_field"] = 1.0
     else:
