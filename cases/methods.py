@@ -38,6 +38,12 @@ def unsupported_reason(case: Case, method: str) -> str | None:
     if method not in case.methods():
         return (f"method {method!r} does not support case {case.name!r} "
                 f"(supported: {', '.join(supported_methods(case))})")
+    return _package_refusal(case, method)
+
+
+def _package_refusal(case: Case, method: str) -> str | None:
+    """The method package's own word on the case: None, or why not (also when the
+    package cannot be imported)."""
     try:
         mod = importlib.import_module(SOLVERS[method][0])
     except ImportError as e:
@@ -49,16 +55,7 @@ def unsupported_reason(case: Case, method: str) -> str | None:
 
 def supported_methods(case: Case) -> list[str]:
     """The methods that can run ``case`` (what ``imperfect list`` and ``all`` mean)."""
-    out = []
-    for m in case.methods():
-        try:
-            mod = importlib.import_module(SOLVERS[m][0])
-        except ImportError:
-            continue
-        check = getattr(mod, "supports", None)
-        if not callable(check) or check(case) is None:
-            out.append(m)
-    return out
+    return [m for m in case.methods() if _package_refusal(case, m) is None]
 
 
 def resolve_methods(case: Case, methods) -> list[str]:
