@@ -248,6 +248,9 @@ def main(argv=None) -> int:
     except (CaseError, SolverError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
+    except BrokenPipeError:                  # output piped into head, less, ...: not an error
+        sys.stderr.close()
+        return 0
     except MemoryError:
         print("error: out of memory: use a coarser discretization (element_size, cell, h)", file=sys.stderr)
         return 2
