@@ -4,12 +4,12 @@ Runs, each at NUMBA_NUM_THREADS = 1 and 2 (every setting in its own subprocess, 
 numba fixes the thread count at import):
 
 * ``single_ugimp``: one-material block of ~100k particles (uGIMP, 2x2 per cell),
-  bottom fixed, sheared top traction: the whole step loop runs compiled
-  (:func:`mpm.chunk.run_chunk_2d`).
+  bottom fixed, sheared top traction (the one compiled step,
+  :func:`mpm.step.run_steps`, with one material field).
 * ``dls_interface``: the 002 double-lap-shear specimen (Dt = 5 MPa/mm, 0.1 mm cells)
   with the imperfect interface active (multimaterial P2G, nodal displacement
-  extrapolation, two contact corrections and interface forces per step:
-  :func:`mpm.chunk_multimaterial.run_chunk_multimaterial_2d`).
+  extrapolation, two contact corrections and interface forces per step, in the same
+  :func:`mpm.step.run_steps`).
 * scaling: ``single_ugimp`` at ~25k, ~100k and ~400k particles on one thread.
 
 Compilation is excluded (a warm-up chunk runs first). The machine is a shared VM whose

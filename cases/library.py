@@ -175,6 +175,47 @@ def two_layer(Dt: float = 5.0, Dn: float = math.inf, width: float = 4.0, height:
     )
 
 
+def core_sleeve(Dt: float = 10.0, Dn: float = math.inf, radius: float = 1.0, outer: float = 3.0,
+                length: float = 10.0, stress: float = 1.0, fem_h: float = 0.125,
+                mpm_cell: float = 0.125, mpm_ppc: int = 2) -> Case:
+    """Fibre pull-out from a sleeve: a glass core in a polymer tube, axisymmetric (000 Sec 2.3).
+
+    x = r, y = z (mm), per radian. A glass core (E = 70 GPa, nu = 0.25; 000 Sec 3) of
+    ``radius`` fills r < a and is bonded by an imperfect interface (Dn, Dt; Dn = inf:
+    no normal opening) to a polymer sleeve (E = 2400 MPa, nu = 0.33) a < r < ``outer``,
+    both of ``length`` along z. The sleeve's base z = 0 is held (u_r = u_z = 0), the
+    core's base is free and its top face carries the axial ``stress`` (MPa), ramped
+    over 0.02 ms for MPM: the load reaches the sleeve only through the interface's
+    shear, so Dt sets the compliance. Stiffness k = P / (<u_z core top> - <u_z sleeve
+    base>) per radian, P = stress a^2 / 2. Reference: axisymmetric FEM (no closed form).
+    """
+    for n, v in (("radius", radius), ("length", length), ("stress", stress)):
+        check_number(n, v, low=0, low_open=True)
+    check_number("outer", outer, low=radius, low_open=True)
+    from .curved import glass_polymer   # the constants of 000 Sec 3
+    bodies = [Body("core", Rectangle(0.0, 0.0, radius, length), "glass"),
+              Body("sleeve", Rectangle(radius, 0.0, outer - radius, length), "polymer")]
+    ramp = 0.02 * MS
+    bcs = [BoundaryCondition("fixed", "sleeve", "ymin", ("x", "y"), (0.0, 0.0)),
+           BoundaryCondition("fixed", "core", "xmin", ("x",), (0.0,)),   # the axis r = 0
+           BoundaryCondition("traction", "core", "ymax", ("y",), (stress,), ramp_time=ramp)]
+    return Case(
+        name="core_sleeve", analysis="axisymmetric", thickness=1.0,
+        description=f"Core-and-sleeve pull-out (axisymmetric), Dt = {Dt} MPa/mm, Dn = {Dn} MPa/mm",
+        materials=glass_polymer(), bodies=bodies,
+        interfaces=[InterfacePair("core", "sleeve", LinearInterface(Dn=Dn, Dt=Dt))],
+        boundary_conditions=bcs,
+        measurements={"stiffness": {"load": [["core", "ymax"]], "support": [["sleeve", "ymin"]],
+                                    "direction": "y"},
+                      "interface_energy": {}},
+        discretization={"fem": {"element_size": fem_h, "order": 2},
+                        "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
+                                "normal_vector": [1.0, 0.0], "grid_anchor": "origin"}},
+        reference="fem",
+        lines={"interface": [[radius, 0.0], [radius, length]]},
+    )
+
+
 def dcb(Dn: float = math.inf, a: float = 25.0, length: float = 50.0, h: float = 0.6, W: float = 10.0,
         P: float = 1.0, kb: float = 7808.0, clamp_end: bool = False, fem_h: float = 0.1, mpm_cell: float = 0.1, mpm_ppc: int = 2) -> Case:
     """Double cantilever beam (002 Sec 3.2 Fig 8) with wood arms (grain along x).

@@ -12,6 +12,7 @@ from . import curved, library
 CASES: dict[str, Callable[..., Case]] = {
     "dls": library.dls,
     "two_layer": library.two_layer,
+    "core_sleeve": library.core_sleeve,
     "dcb": library.dcb,
     "wave": library.wave,
     "particulate": library.particulate,
@@ -100,10 +101,11 @@ UNITS = {"Dt": "MPa/mm", "Dn": "MPa/mm", "D": "MPa/mm", "Dn_compression": "MPa/m
          "x_interface": "mm", "shift_x": "mm", "shift_y": "mm", "zone_y": "mm", "fem_h": "mm",
          "mpm_cell": "mm", "amplitude": "mm", "size": "mm", "E": "MPa", "stress": "MPa", "load": "N",
          "P": "N", "f": "Hz", "angle": "deg", "rho_g_cm3": "g/cm^3", "strain": "-",
-         "b": "mm", "volume_fraction": "-"}
+         "b": "mm", "volume_fraction": "-", "outer": "mm"}
 
 #: settings that run every method of a case in seconds (for trying things out)
 CHEAP = {"dls": {"fem_h": 0.5, "mpm_cell": 0.5}, "two_layer": {"fem_h": 1.0, "mpm_cell": 1.0},
+         "core_sleeve": {"fem_h": 0.5, "mpm_cell": 0.5},
          "dcb": {"fem_h": 0.3, "mpm_cell": 0.3}, "wave": {"mpm_cell": 2.0},
          "particulate": {"mpm_cell": 0.1}, "bimaterial_square": {"h": 0.05, "fem_h": 0.05},
          "cuboid": {"h": 0.1}}

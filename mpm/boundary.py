@@ -101,6 +101,20 @@ def empty_conditions() -> NodalConditions:
     return NodalConditions(i, i.copy(), i.copy(), f, f.copy(), i.copy(), f.copy())
 
 
+def with_axis_conditions(bcs: NodalConditions, axis_nodes: np.ndarray, M: int) -> NodalConditions:
+    """Add the symmetry of the axis r = 0 of an axisymmetric run (000 Sec 2.3): zero
+    radial velocity of every field on the axis nodes."""
+    n = axis_nodes.size * M
+    if n == 0:
+        return bcs
+    node = np.repeat(axis_nodes, M)
+    field = np.tile(np.arange(M, dtype=np.int64), axis_nodes.size)
+    zi, zf = np.zeros(n, np.int64), np.zeros(n)
+    add = (node, field, zi, zf, np.full(n, np.inf), np.full(n, K.HOLD, np.int64), zf.copy())
+    old = (bcs.node, bcs.field, bcs.comp, bcs.vel, bcs.t_end, bcs.ramp, bcs.t_ramp)
+    return NodalConditions(*(np.ascontiguousarray(np.concatenate([a, b])) for a, b in zip(old, add)))
+
+
 def nodal_conditions(case, grid: Grid, default_ramp: float) -> NodalConditions:
     """Collect every fixed/displacement/velocity/deformation_gradient condition."""
     keys = ("node", "field", "comp", "vel", "t_end", "ramp", "t_ramp")

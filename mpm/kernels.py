@@ -10,8 +10,7 @@ cells) or USF (phase-0 corrected initial extrapolation, before the internal forc
 The particle loops are written over a particle range (``p2g_range_2d``,
 ``g2p_range_2d``): the serial kernels run them over all particles, mpm/parallel.py over
 contiguous blocks in parallel (race-free P2G: one nodal buffer per block, numba has no
-CPU atomics). Whole chunks of steps run compiled in mpm/chunk.py and
-mpm/chunk_multimaterial.py. Hot loops take the 1D shape weights as scalars
+CPU atomics). The time step assembled from these kernels is mpm/step.py. Hot loops take the 1D shape weights as scalars
 (:func:`mpm.shape.axis_weights_tuple`) and keep work arrays local: passing arrays into
 inlined helpers per particle costs numba reference-count calls (halved P2G speed).
 3D kernels are an addition with the same signatures (``shape_3d``, ``p2g_3d``, ...).
@@ -23,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .shape import axis_weights, axis_weights3, axis_weights_tuple, shape_2d_work
+from .shape import axis_weights, axis_weights3, axis_weights_tuple, shape_2d_work, stencil_work
 
 #: stress-update schemes: update stress last (grid velocities after the momentum
 #: update), first (initial extrapolation), modified USL (re-extrapolated particle momenta)
@@ -267,13 +266,7 @@ def normalise_fields(mass, disp, pos):
 @njit(cache=True, fastmath=True, error_model="numpy")
 def p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force):
     """Add the internal force -V_p sigma_p . grad S_ip to ``force`` (USF second pass)."""
-    idx = np.empty(9, np.int64)
-    S = np.empty(9)
-    G = np.empty((9, 2))
-    wx = np.empty(3)
-    dwx = np.empty(3)
-    wy = np.empty(3)
-    dwy = np.empty(3)
+    idx, S, G, wx, dwx, wy, dwy = stencil_work()
     for p in range(x.shape[0]):
         c = shape_2d_work(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, idx, S, G,
                           wx, dwx, wy, dwy)

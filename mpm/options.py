@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
@@ -36,6 +37,9 @@ DEFAULTS: dict = {
     "vtk_frames": 20,        # number of VTU frames over the run
     "blowup": 20.0,          # divergence if kinetic + strain energy > blowup x (work done + tiny)
     "history_points": 2000,  # energy history samples kept in the Result
+    "checkpoint": None,      # file (.npz) the run's state is saved to (mpm/checkpoint.py)
+    "checkpoint_every": 300.0,  # s of wall time between checkpoints (and one on Ctrl-C)
+    "resume": False,         # continue from the checkpoint file when it exists
 }
 
 
@@ -93,7 +97,20 @@ def merge(case, overrides: dict) -> dict:
     opts["grid_anchor"] = _anchor(opts["grid_anchor"], D)
     if opts["max_time"] is not None and not math.isfinite(opts["max_time"]):
         raise CaseError("mpm option max_time must be finite")
+    _checkpoint_options(opts)
     return opts
+
+
+def _checkpoint_options(opts: dict) -> None:
+    """checkpoint: a file path or None; checkpoint_every: s >= 0; resume: a boolean."""
+    if opts["checkpoint"] is not None and not isinstance(opts["checkpoint"], (str, os.PathLike)):
+        raise CaseError(f"mpm option checkpoint must be a file path, got {opts['checkpoint']!r}")
+    opts["checkpoint_every"] = check_number("mpm option checkpoint_every", opts["checkpoint_every"],
+                                            low=0, high=1e9)
+    if not isinstance(opts["resume"], bool):
+        raise CaseError(f"mpm option resume must be true or false, got {opts['resume']!r}")
+    if opts["resume"] and not opts["checkpoint"]:
+        raise CaseError("mpm option resume needs the checkpoint option (the file to continue from)")
 
 
 def _anchor(value, D: int):

@@ -53,7 +53,8 @@ def generate(case, grid: Grid, ppc) -> Particles:
     D = grid.D
     ppc = parse_ppc(ppc, D)
     spacing = grid.cell / ppc
-    thickness = case.thickness if D == 2 else 1.0
+    axisymmetric = case.analysis == "axisymmetric"
+    thickness = case.thickness if D == 2 and not axisymmetric else 1.0
     vol = float(np.prod(spacing)) * thickness
     xs, fields, masses = [], [], []
     taken = None
@@ -80,16 +81,18 @@ def generate(case, grid: Grid, ppc) -> Particles:
                             f"{grid.cell.tolist()} and ppc {ppc.tolist()}: refine the grid")
         key = np.round((pts - grid.origin) / spacing - 0.5).astype(np.int64)
         taken = key if taken is None else np.vstack([taken, key])
-        rho = case.materials[body.material].rho
         xs.append(pts)
         fields.append(np.full(pts.shape[0], b, np.int64))
-        masses.append(np.full(pts.shape[0], rho * vol))
     x = np.ascontiguousarray(np.vstack(xs))
     P = x.shape[0]
-    nv = 3 if D == 2 else 6
+    field = np.concatenate(fields)
+    # volumes per radian (area x r_p) in axisymmetric runs (000 Sec 2.3)
+    volume = vol * x[:, 0] if axisymmetric else np.full(P, vol)
+    rho = np.array([case.materials[body.material].rho for body in case.bodies])
+    nv = 6 if D == 3 else (4 if axisymmetric else 3)
     return Particles(
-        x=x, x0=x.copy(), v=np.zeros((P, D)), mass=np.concatenate(masses),
-        volume0=np.full(P, vol), volume=np.full(P, vol), field=np.concatenate(fields),
+        x=x, x0=x.copy(), v=np.zeros((P, D)), mass=rho[field] * volume,
+        volume0=volume.copy(), volume=volume.copy(), field=field,
         stress=np.zeros((P, nv)), strain=np.zeros((P, nv)), fext=np.zeros((P, D)),
         foff=np.zeros((P, D)),
         spacing=spacing, lp=0.5 * spacing)
@@ -177,7 +180,8 @@ def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
     uniform traction (:func:`_equivalent_shares`), and the force acts at the particle. Returns one record per traction
     condition: particle indices, total force vector, ramp time and ramp name.
     """
-    thickness = case.thickness if D == 2 else 1.0
+    axisymmetric = case.analysis == "axisymmetric"
+    thickness = case.thickness if D == 2 and not axisymmetric else 1.0
     loads = []
     for k, bc in enumerate(case.boundary_conditions):
         if bc.kind != "traction":
@@ -195,7 +199,14 @@ def apply_tractions(case, particles: Particles, D: int) -> list[dict]:
             share *= length / share.sum()
         else:
             share = _equivalent_shares(shape, bc.side, particles.x0[idx], traction, length)
-        total = traction * length * thickness
+        if axisymmetric:
+            # per radian: each share times the radius of the loaded edge point (exact
+            # for the midpoint rule of int t r ds along sides on grid lines)
+            offset = normal[0] * 0.5 * float(np.abs(normal) @ particles.spacing) if aligned else 0.0
+            share = share * (particles.x0[idx, 0] + offset)
+            total = traction * float(share.sum())
+        else:
+            total = traction * length * thickness
         particles.fext[idx] += np.outer(share * thickness, traction)
         # the force acts on the particle's edge on that side (half a spacing outward) when
         # the side is aligned with the grid axes; otherwise at the particle (S_ip weights)

@@ -140,6 +140,14 @@ def shape_2d(x: float, y: float, origin: np.ndarray, cell: np.ndarray, nn: np.nd
     return shape_2d_work(x, y, origin, cell, nn, lp, kind, idx, S, G, wx, dwx, wy, dwy)
 
 
+@njit(cache=True, inline="always")
+def stencil_work():
+    """Work arrays of :func:`shape_2d_work` for a particle loop: node indices, S_ip and
+    grad S_ip (9 each) and the 1D weights and gradients (wx, dwx, wy, dwy)."""
+    return (np.empty(9, np.int64), np.empty(9), np.empty((9, 2)), np.empty(3), np.empty(3),
+            np.empty(3), np.empty(3))
+
+
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def shape_2d_work(x, y, origin, cell, nn, lp, kind, idx, S, G, wx, dwx, wy, dwy) -> int:
     """:func:`shape_2d` with caller-provided 1D work arrays (no allocation; hot loops)."""

@@ -3,8 +3,9 @@
 Step sequence (004 Sec 3.2, Eq 26-34; mpm/LAYOUT.md): P2G -> contact correction
 phase 0 -> imperfect-interface forces (000 Eq 17-27) -> momentum update with grid
 damping and nodal conditions -> contact correction phase 1 -> G2P (FLIP, PIC blend) ->
-stress update (USL; USF optional). Runs without multimaterial nodes execute whole
-chunks of steps inside one compiled loop (:func:`mpm.kernels.run_chunk_2d`).
+stress update (USL; USF, MUSL optional). Every run executes whole chunks of steps of
+the one compiled time step (:func:`mpm.step.run_steps`) on the state bundles of
+:mod:`mpm.state`; Python runs only between output intervals.
 
 Tractions are ramped over ``ramp_time`` (linearly, or along the cosine ramp the case
 gives them); prescribed displacements and velocities follow their own ramps
@@ -17,6 +18,8 @@ from __future__ import annotations
 
 import math
 import os
+import signal
+import threading
 import time
 
 import numpy as np
@@ -25,9 +28,10 @@ from interfaces.errors import CaseError, SolverError
 from interfaces.numba_cache import cache_is_cold
 from interfaces.result import Result
 
-from . import kernels as K
-from .boundary import nodal_conditions, ramp_code
-from .extrapolation import displacement_to_nodes
+from . import axisymmetric as AX
+from . import checkpoint
+from . import state as S
+from .boundary import nodal_conditions, ramp_code, with_axis_conditions
 from .gauges import StressGauges
 from .grid import Grid, NodalFields
 from .measure import interface_profile, line_profiles, stiffness_quantities
@@ -36,12 +40,11 @@ from .particles import apply_tractions, generate
 from .progress import ProgressBar, compile_notice
 from .rigid import with_rigid_conditions
 from .shape import SHAPE_CODES
+from .step import run_steps
 from .vtk import write_vtk_series
 
 from .multimaterial_constants import (OUT_AREA, OUT_STATUS, S_FORCE_LIMIT, STATUS_INTERFACE,
-                                      STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_OVER_LIMIT)
-
-_OVER_LIMIT = int(STATUS_OVER_LIMIT)
+                                      STATUS_LIMITED_N, STATUS_LIMITED_T)
 
 #: warn about force-limited interface nodes when min(D) h / E is below this and they
 #: hold more than this fraction of the interface's contact area (000 Eq 20)
@@ -73,9 +76,14 @@ HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc"
 def supports(case) -> str | None:
     """None when MPM can run ``case``, else the one-line reason (used by ``imperfect list``
     and ``--methods all``, so no method is advertised for a case it refuses)."""
-    if case.analysis not in ("plane_stress", "plane_strain"):
+    if case.analysis not in ("plane_stress", "plane_strain", "axisymmetric"):
         return (f"analysis {case.analysis!r} is not supported yet; the MPM core implements "
-                "plane_stress and plane_strain")
+                "plane_stress, plane_strain and axisymmetric")
+    if case.analysis == "axisymmetric":
+        lo, _ = case.bounds()
+        if lo[0] < 0.0:
+            return (f"axisymmetric bodies must lie at r = x >= 0, the case reaches x = "
+                    f"{lo[0]:g} mm")
     return None
 
 
@@ -98,7 +106,14 @@ class Model:
         self.M = len(case.bodies)
         self.nodal = NodalFields(self.grid.N, self.M, 2)
         mats = [case.materials[b.material] for b in case.bodies]
-        self.C = np.ascontiguousarray(np.array([m.stiffness(case.analysis) for m in mats], float))
+        self.axisymmetric = case.analysis == "axisymmetric"
+        if self.axisymmetric and opts["update"] == "usf":
+            raise CaseError("mpm option update: 'usf' is not available in axisymmetric runs; "
+                            "use usl, musl or auto")
+        C = [m.stiffness(case.analysis) for m in mats]
+        if self.axisymmetric:
+            C = [AX.stiffness_rzt(c) for c in C]   # particle order [rr, zz, rz, tt]
+        self.C = np.ascontiguousarray(np.array(C, float))
         self.tables = None
         self.node_out = None
         rigid = np.zeros(self.M, bool)
@@ -144,6 +159,10 @@ class Model:
                             f"specimen needs (2 omega = {self.alpha:.3g} 1/s, alpha dt must be <= 0.5): "
                             f"lower dt (or cfl) below {0.5 / self.alpha:.3g} s")
         self.bcs = nodal_conditions(case, self.grid, self.ramp_time)
+        self.axis_nodes = np.zeros(0, np.int64)
+        if self.axisymmetric:
+            self.axis_nodes = AX.axis_nodes(self.grid.node_positions(), self.grid.cell)
+            self.bcs = with_axis_conditions(self.bcs, self.axis_nodes, self.M)
         if rigid.any():
             self.bcs = with_rigid_conditions(case, self.bcs, rigid, self.grid.N, self.grid.D,
                                              self.ramp_time)
@@ -151,6 +170,19 @@ class Model:
             opts["update"] = "usl" if _grid_aligned(case, self.grid) else "musl"
         self.force_limiting = self.tables is None or \
             bool(self.tables.settings[S_FORCE_LIMIT] != 0.0)
+
+    def bundles(self, buffers) -> tuple:
+        """The state bundles of :func:`mpm.step.run_steps` (views of this model's arrays;
+        ``buffers`` the :class:`mpm.parallel.BlockBuffers` of P2G)."""
+        g = self.grid
+        # out-of-plane extent of a node's cell: the thickness, or r_i per radian (000 Eq 20)
+        thickness = AX.node_radii(g.node_positions(), g.cell) if self.axisymmetric \
+            else self.case.thickness
+        return (S.step_control(self), S.particle_state(self.particles, self.axisymmetric),
+                S.grid_spec(g, self.kind, self.axis_nodes), S.nodal_state(self.nodal),
+                S.conditions(self.bcs),
+                S.pair_tables(self.tables, self.node_out, thickness, g.N, self.M, g.D),
+                S.blocks(buffers))
 
 
 def _traction_ramp(loads: list[dict], option: float | None, T1: float) -> tuple[float, int]:
@@ -268,30 +300,24 @@ class _Runner:
         # force_limiting off: (steps with a node above the 000 Eq 26 bound, most such
         # nodes in one step, first time)
         self.over_limit = [0, 0, -1.0]
+        self.bundles = None   # the state bundles of mpm.step, built at the first step
+        self.last_save = time.perf_counter()
 
     # -- one interval ----------------------------------------------------------
     def _advance(self, nsteps: int) -> np.ndarray:
+        """``nsteps`` steps of the one compiled time step (:func:`mpm.step.run_steps`)."""
         m = self.m
-        pt, nd, bc = m.particles, m.nodal, m.bcs
+        if self.bundles is None:
+            from .parallel import BlockBuffers, default_blocks
+            if getattr(self, "block_buffers", None) is None:
+                # particle blocks of the race-free parallel P2G/G2P (mpm/parallel.py)
+                self.block_buffers = BlockBuffers(default_blocks(m.particles.P), m.grid.N,
+                                                  m.M, m.M > 1)
+            self.bundles = m.bundles(self.block_buffers)
         hist = np.zeros((nsteps, len(HIST_COLUMNS)))
-        mode = K.UPDATE_CODES[m.opts["update"]]
-        kinetic = m.opts["damping"] == "kinetic"
-        from .chunk import run_chunk_2d
-        from .parallel import BlockBuffers, default_blocks
-        if getattr(self, "block_buffers", None) is None:
-            # particle blocks of the race-free parallel P2G/G2P (mpm/parallel.py)
-            self.block_buffers = BlockBuffers(default_blocks(pt.P), m.grid.N, m.M, m.M > 1)
-        if m.M == 1:
-            done, lost = run_chunk_2d(
-                nsteps, self.t, m.dt, m.ramp_time, m.ramp_code, m.alpha, kinetic, m.opts["pic"], mode,
-                pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
-                pt.x0, pt.fext, pt.foff, m.C, m.grid.origin, m.grid.cell, m.grid.nn, pt.lp, m.kind,
-                nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
-                nd.displacement, nd.position, nd.velocity, nd.acceleration,
-                bc.node, bc.field, bc.comp, bc.vel, bc.t_end, bc.ramp, bc.t_ramp,
-                hist, self.ke_prev, *self.block_buffers.arrays())
-        else:
-            done, lost = self._advance_multimaterial(nsteps, hist, mode, kinetic)
+        over = np.array(self.over_limit, dtype=float)
+        done, lost = run_steps(nsteps, self.t, m.alpha, *self.bundles, hist, self.ke_prev, over)
+        self.over_limit = [int(over[0]), int(over[1]), float(over[2])]
         self.steps += done
         if done:
             self.t = float(hist[done - 1, 0])
@@ -302,195 +328,46 @@ class _Runner:
                               "or increase the padding option" + self._advice())
         return hist[:done]
 
-    def _advance_multimaterial(self, nsteps, hist, mode, kinetic):
-        """Steps of a run with 2+ fields: one compiled chunk
-        (:func:`mpm.chunk_multimaterial.run_chunk_multimaterial_2d`) unless normals or
-        separations come from logistic regression or ``chunk_multimaterial.COMPILED`` is
-        off; then this Python-level step loop around the compiled kernels (the reference
-        the compiled chunk equals)."""
-        from . import chunk_multimaterial as CM
-        from . import multimaterial as mm
-        m = self.m
-        pt, nd, bc, g = m.particles, m.nodal, m.bcs, m.grid
-        thick = m.case.thickness
-        if CM.COMPILED and not m.tables.uses_lr:
-            tb = m.tables
-            node_out = m.node_out if m.node_out is not None else np.zeros((0, mm.NODE_OUT_COLUMNS))
-            over = np.array(self.over_limit, dtype=float)
-            done, lost = CM.run_chunk_multimaterial_2d(
-                nsteps, self.t, m.dt, m.ramp_time, m.ramp_code, m.alpha, kinetic, m.opts["pic"], mode,
-                m.opts["nodal_displacement"] == "linear", tb.has_interfaces,
-                tb.has_interfaces and not m.force_limiting,
-                pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
-                pt.x0, pt.fext, pt.foff, m.C, g.origin, g.cell, g.nn, pt.lp, m.kind,
-                nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
-                nd.displacement, nd.position, nd.velocity, nd.acceleration,
-                bc.node, bc.field, bc.comp, bc.vel, bc.t_end, bc.ramp, bc.t_ramp,
-                np.ascontiguousarray(np.atleast_1d(np.asarray(thick, dtype=np.float64))),
-                tb.law_kind, tb.law_params, tb.settings, tb.rigid, tb.node_zone, tb.zone_pairs,
-                tb.zone_kind, tb.zone_params, node_out, over,
-                hist, self.ke_prev, *self.block_buffers.arrays())
-            self.over_limit = [int(over[0]), int(over[1]), float(over[2])]
-            return done, lost
-        vel = np.empty_like(bc.vel)
-        with_interface = m.tables.has_interfaces
-        uses_lr = m.tables.uses_lr
-        check_limit = with_interface and not m.force_limiting
-        if uses_lr:
-            # particle radii R_0 = half the particle spacing (004 Eq 25; small strain, so
-            # the undeformed ellipse); node arrays reused every step
-            half_width = 0.5 * pt.spacing
-            mass_tol = float(m.tables.settings[mm.S_MASS_TOL])
-            lr_out = (np.zeros((g.N, m.M, g.D)), np.zeros((g.N, m.M)))
-        else:
-            half_width = mass_tol = lr_out = None
-        linear_u = m.opts["nodal_displacement"] == "linear"
-        t = self.t
-        for s in range(nsteps):
-            scale = K.ramp(t, m.ramp_time, m.ramp_code)
-            lost = K.p2g_2d(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
-                            pt.foff, scale, g.origin, g.cell, g.nn, pt.lp, m.kind, True,
-                            mode != K.USF,
-                            nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
-                            nd.displacement, nd.position)
-            if lost >= 0:
-                return s, lost
-            nodes = K.multimaterial_nodes(nd.mass)
-            multi = nodes.size > 0
-            if multi and linear_u:
-                # separations of 000 Eq 13 evaluated at the node, not at the centroids
-                tb = m.tables
-                displacement_to_nodes(nd.mass, nd.displacement, nd.position, nodes, g.origin,
-                                      g.cell, g.nn, tb.law_kind, tb.law_params, tb.node_zone,
-                                      tb.zone_pairs, tb.zone_kind, tb.zone_params,
-                                      np.empty((nodes.size, m.M, g.D)))
-            args = (nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
-                    nd.displacement, nd.position, g.cell, m.tables, m.dt, thick)
-            lr = None
-            if multi and uses_lr:
-                # 004 Eq 19-25: LR normals and separations from this step's particle cloud
-                lr = mm.lr_normals_separations(pt.x, pt.field, half_width, g.origin, g.cell,
-                                               g.nn, nd.mass, nodes, mass_tolerance=mass_tol,
-                                               out=lr_out)
-            if multi:
-                mm.correct_momentum(0, *args, lr=lr, nodes=nodes)
-            if mode == K.USF:
-                K.stress_from_grid_2d(pt.x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
-                                      m.C, g.origin, g.cell, g.nn, pt.lp, m.kind, m.dt, nd.mass,
-                                      nd.momentum)
-                K.p2g_internal_force_2d(pt.x, pt.volume, pt.stress, pt.field, g.origin, g.cell,
-                                        g.nn, pt.lp, m.kind, nd.force)
-            u_int = 0.0
-            if multi and with_interface:
-                u_int = mm.add_interface_forces(nd.mass, nd.momentum, nd.volume,
-                                                nd.volume_gradient, nd.displacement, nd.position,
-                                                g.cell, thick, m.tables, m.dt, nd.force,
-                                                m.node_out, lr=lr, nodes=nodes)
-                if check_limit:
-                    over = int(np.count_nonzero(
-                        m.node_out[nodes, OUT_STATUS].astype(np.int64) & _OVER_LIMIT))
-                    if over:
-                        self.over_limit[0] += 1
-                        self.over_limit[1] = max(self.over_limit[1], over)
-                        if self.over_limit[2] < 0:
-                            self.over_limit[2] = t
-            K.step_velocities(t, m.dt, bc.vel, bc.t_end, bc.ramp, bc.t_ramp, vel)
-            diss, wbc = K.grid_update(nd.mass, nd.momentum, nd.force, m.dt, m.alpha,
-                                      bc.node, bc.field, bc.comp, vel)
-            if multi:
-                mm.correct_momentum(1, *args, lr=lr, nodes=nodes)
-                if bc.size:
-                    # a bonded node must keep its condition after the phase-1 correction
-                    wbc += mm.apply_velocity_conditions(nd.mass, nd.momentum, nd.force,
-                                                        m.tables, m.dt, bc.node, bc.field,
-                                                        bc.comp, vel)
-            K.nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
-            ke, U, work, lost, ke_grid = K.g2p_2d(
-                pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
-                pt.fext, pt.foff, scale, m.C, g.origin, g.cell, g.nn, pt.lp, m.kind, m.dt,
-                m.opts["pic"], mode == K.USL, nd.velocity, nd.acceleration)
-            if lost >= 0:
-                return s, lost
-            if mode == K.MUSL:
-                K.p2g_momentum_2d(pt.x, pt.v, pt.mass, pt.field, g.origin, g.cell, g.nn, pt.lp,
-                                  m.kind, nd.mass, nd.momentum)
-                K.set_velocity_bc(nd.mass, nd.momentum, bc.node, bc.field, bc.comp, vel)
-                if multi:
-                    # re-extrapolated masses may cover other nodes; LR arrays are per node
-                    nodes = K.multimaterial_nodes(nd.mass)
-                    if uses_lr and nodes.size:
-                        lr = mm.lr_normals_separations(pt.x, pt.field, half_width, g.origin,
-                                                       g.cell, g.nn, nd.mass, nodes,
-                                                       mass_tolerance=mass_tol, out=lr_out)
-                    mm.correct_momentum(0, *args, lr=lr, nodes=nodes)
-                    if bc.size:
-                        mm.apply_velocity_conditions(nd.mass, nd.momentum, nd.force, m.tables,
-                                                     m.dt, bc.node, bc.field, bc.comp, vel,
-                                                     with_force=False)
-                U = K.stress_from_grid_2d(pt.x, pt.volume, pt.volume0, pt.stress, pt.strain,
-                                          pt.field, m.C, g.origin, g.cell, g.nn, pt.lp, m.kind,
-                                          m.dt, nd.mass, nd.momentum)
-            t += m.dt
-            if kinetic and ke < self.ke_prev[0] and self.ke_prev[0] >= self.ke_prev[1]:
-                pt.v[:] = 0.0
-                diss += ke
-                ke = 0.0
-            self.ke_prev[1] = self.ke_prev[0]
-            self.ke_prev[0] = ke
-            hist[s] = (t, ke, U, work, diss, wbc, u_int, ke_grid)
-            if not math.isfinite(ke):
-                return s + 1, -1
-        return nsteps, -1
-
     # -- whole run -------------------------------------------------------------
     def run(self) -> None:
         m = self.m
-        interval = max(1, int(math.ceil(0.25 * m.T1 / m.dt)))
-        spec = m.case.measurements.get("transmitted_energy")
-        if spec is not None:
-            # 002 Sec 3.3 gauges: sample the pulse (the shortest load ramp) ~GAUGE_SAMPLES times
-            self.gauges = StressGauges(m.case, m.particles.x0, m.particles.spacing)
-            ramps = [bc.ramp_time for bc in m.case.boundary_conditions if bc.ramp_time]
-            pulse = min(ramps + [m.ramp_time])
-            interval = min(interval, max(1, int(pulse / (GAUGE_SAMPLES * m.dt))))
-            self.gauges.sample(self.t, m.particles.stress)
+        interval = self._interval()
         total_steps = int(math.ceil(m.max_time / m.dt))
         est_time = 1e-7 * m.particles.P * total_steps
         show = m.opts["progress"] if m.opts["progress"] is not None else est_time > 5.0
         bar = ProgressBar(f"mpm {m.case.name}", enabled=bool(show))
         vtk_every = max(1, total_steps // m.opts["vtk_frames"]) if m.opts["vtk_dir"] else 0
-        next_frame = vtk_every if vtk_every else math.inf
-        if vtk_every:
+        resumed = self._resume()
+        if resumed:
+            total_steps = max(total_steps, int(math.ceil(m.max_time / m.dt)))
+        next_frame = (self.steps // vtk_every + 1) * vtk_every if vtk_every else math.inf
+        if vtk_every and not resumed:
             self._frame()
-        cum_work = 0.0
+        cum_work = float(sum(h[:, 3].sum() + h[:, 5].sum() for h in self.hist_chunks))
         shown = 0.0
-        while self.steps < total_steps:
-            n = min(interval, total_steps - self.steps, next_frame - self.steps)
-            h = self._advance(n)
-            self.hist_chunks.append(h)
-            if self.gauges is not None:
-                self.gauges.sample(self.t, m.particles.stress)
-            cum_work += h[:, 3].sum() + h[:, 5].sum()
-            U, ui = h[-1, 2], h[-1, 6]
-            if not (np.all(np.isfinite(h[:, 1:])) and math.isfinite(cum_work)):
-                raise SolverError(self._diverged("energies became NaN/inf"))
-            scale = abs(cum_work) + 1e-12 * (1.0 + U)
-            if h[:, 1].max() + U + ui > m.opts["blowup"] * scale and self.t > 0.05 * m.ramp_time:
-                raise SolverError(self._diverged(
-                    f"kinetic + stored energy {h[:, 1].max() + U + ui:.3g} exceeds "
-                    f"{m.opts['blowup']:g} x the work done {cum_work:.3g}"))
-            if self.steps >= next_frame:
-                self._frame()
-                next_frame += vtk_every
-            # the step limit grows when a slower mode is found: never move the bar back
-            shown = max(shown, self.steps / total_steps)
-            bar.update(shown,
-                       f"t={self.t:.3g}s KE/U={h[-1, 7] / max(U + ui, 1e-300):.2e}")
-            total_steps = self._adapt(total_steps)
-            window = int(math.ceil(0.5 * m.period / m.dt))
-            if self.t > m.ramp_time and self._settled(window):
-                self.stopped_by = "kinetic_energy"
-                break
+        with _InterruptFlag(enabled=bool(m.opts["checkpoint"])) as interrupt:
+            while self.steps < total_steps:
+                n = min(interval, total_steps - self.steps, next_frame - self.steps)
+                h = self._advance(n)
+                self.hist_chunks.append(h)
+                if self.gauges is not None:
+                    self.gauges.sample(self.t, m.particles.stress)
+                cum_work += h[:, 3].sum() + h[:, 5].sum()
+                self._check_energies(h, cum_work)
+                if self.steps >= next_frame:
+                    self._frame()
+                    next_frame += vtk_every
+                # the step limit grows when a slower mode is found: never move the bar back
+                shown = max(shown, self.steps / total_steps)
+                U, ui = h[-1, 2], h[-1, 6]
+                bar.update(shown,
+                           f"t={self.t:.3g}s KE/U={h[-1, 7] / max(U + ui, 1e-300):.2e}")
+                total_steps = self._adapt(total_steps)
+                window = int(math.ceil(0.5 * m.period / m.dt))
+                if self.t > m.ramp_time and self._settled(window):
+                    self.stopped_by = "kinetic_energy"
+                    break
+                self._checkpoint(interrupt)
         bar.close(f"{self.steps} steps, stopped by {self.stopped_by}")
         if self.stopped_by == "max_time" and m.opts["damping"] != "none":
             # an undamped run is dynamic: it ends at max_time by design
@@ -504,6 +381,54 @@ class _Runner:
             self.warnings.append(limited)
         if vtk_every and self.frames and self.frames[-1][0] < self.t:
             self._frame()
+
+    def _interval(self) -> int:
+        """Steps per output interval (a quarter of T1; the gauges of 002 Sec 3.3 sample
+        the pulse, the shortest load ramp, ~GAUGE_SAMPLES times)."""
+        m = self.m
+        interval = max(1, int(math.ceil(0.25 * m.T1 / m.dt)))
+        if m.case.measurements.get("transmitted_energy") is not None:
+            self.gauges = StressGauges(m.case, m.particles.x0, m.particles.spacing)
+            ramps = [bc.ramp_time for bc in m.case.boundary_conditions if bc.ramp_time]
+            pulse = min(ramps + [m.ramp_time])
+            interval = min(interval, max(1, int(pulse / (GAUGE_SAMPLES * m.dt))))
+            self.gauges.sample(self.t, m.particles.stress)
+        return interval
+
+    def _check_energies(self, h: np.ndarray, cum_work: float) -> None:
+        """SolverError when the energies of the last interval are not finite or the
+        kinetic + stored energy exceeds ``blowup`` x the work done."""
+        m = self.m
+        U, ui = h[-1, 2], h[-1, 6]
+        if not (np.all(np.isfinite(h[:, 1:])) and math.isfinite(cum_work)):
+            raise SolverError(self._diverged("energies became NaN/inf"))
+        scale = abs(cum_work) + 1e-12 * (1.0 + U)
+        if h[:, 1].max() + U + ui > m.opts["blowup"] * scale and self.t > 0.05 * m.ramp_time:
+            raise SolverError(self._diverged(
+                f"kinetic + stored energy {h[:, 1].max() + U + ui:.3g} exceeds "
+                f"{m.opts['blowup']:g} x the work done {cum_work:.3g}"))
+
+    def _resume(self) -> bool:
+        """Continue from the checkpoint (option ``resume``) when one exists."""
+        path = self.m.opts["checkpoint"]
+        if not (self.m.opts["resume"] and path and os.path.exists(path)):
+            return False
+        checkpoint.load(path, self.m, self)
+        return True
+
+    def _checkpoint(self, interrupt: "_InterruptFlag") -> None:
+        """Save the state every ``checkpoint_every`` seconds of wall time, and on Ctrl-C
+        (then stop with KeyboardInterrupt): always between two intervals, where the
+        state is consistent."""
+        path = self.m.opts["checkpoint"]
+        if not path:
+            return
+        now = time.perf_counter()
+        if interrupt.raised or now - self.last_save >= self.m.opts["checkpoint_every"]:
+            checkpoint.save(path, self.m, self)
+            self.last_save = now
+        if interrupt.raised:
+            raise KeyboardInterrupt
 
     def _adapt(self, total_steps: int) -> int:
         """Follow the slowest mode still moving (:func:`rayleigh_period` of the last
@@ -626,6 +551,32 @@ class _Runner:
         return np.vstack(self.hist_chunks) if self.hist_chunks else np.zeros((0, len(HIST_COLUMNS)))
 
 
+class _InterruptFlag:
+    """Within the block, Ctrl-C (SIGINT) only sets ``raised``: the run stops at the end
+    of the current interval, with a consistent state to save (a KeyboardInterrupt while
+    the compiled step returns could leave the particles a chunk ahead of the clock).
+    Inactive (Ctrl-C raises at once) when ``enabled`` is False or off the main thread."""
+
+    def __init__(self, enabled: bool):
+        self.enabled = enabled and threading.current_thread() is threading.main_thread()
+        self.raised = False
+        self._previous = None
+
+    def __enter__(self) -> "_InterruptFlag":
+        if self.enabled:
+            self._previous = signal.signal(signal.SIGINT, self._handle)
+        return self
+
+    def _handle(self, signum, frame) -> None:
+        if self.raised:                    # a second Ctrl-C: stop now
+            raise KeyboardInterrupt
+        self.raised = True
+
+    def __exit__(self, *exc) -> None:
+        if self.enabled:
+            signal.signal(signal.SIGINT, self._previous)
+
+
 def _result(model: Model, run: _Runner, timings: dict) -> Result:
     case, pt, opts = model.case, model.particles, model.opts
     hist = run.history()
@@ -639,6 +590,11 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
          "energy_balance_error": (work - strain_e - u_int - ke - diss) / max(abs(work), 1e-300)}
     res = Result(method="mpm", case_name=case.name)
     q.update(stiffness_quantities(case, pt, model.loads, strain_e + u_int, res))
+    if model.axisymmetric:
+        # the run is per radian (000 Sec 2.3); report the whole ring, as FEM does
+        for key in _RING_QUANTITIES:
+            if key in q:
+                q[key] *= 2.0 * math.pi
     if run.gauges is not None:
         q.update(run.gauges.quantities())
         res.diagnostics["gauges"] = run.gauges.history()
@@ -672,6 +628,12 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
         "warnings": list(res.diagnostics.get("warnings", [])) + run.warnings,
     })
     return res
+
+
+#: extensive quantities scaled from per radian to the whole ring in axisymmetric runs
+_RING_QUANTITIES = ("strain_energy", "interface_energy", "kinetic_energy", "kinetic_energy_grid",
+                    "external_work", "dissipated_energy", "load", "stiffness",
+                    "stiffness_particle_rows", "stiffness_energy")
 
 
 def _cumulative(hist: np.ndarray) -> np.ndarray:

@@ -3,8 +3,48 @@ from a fixed seed, so a submission's result does not depend on the draw; locally
 explores new examples (and keeps failing ones in .hypothesis/)."""
 import os
 
+import pytest
 from hypothesis import settings
 
 settings.register_profile("ci", derandomize=True, print_blob=True)
 if os.environ.get("CI"):
     settings.load_profile("ci")
+
+
+class _InterruptAfter:
+    """Stands for the Ctrl-C flag of an MPM run (mpm.solver._InterruptFlag): raised when
+    the run starts its ``after``-th output interval, as if Ctrl-C came then."""
+    instance = None
+
+    def __init__(self, enabled: bool):
+        self.raised = False
+        _InterruptAfter.instance = self
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return None
+
+
+@pytest.fixture
+def interrupt_mpm(monkeypatch):
+    """``interrupt_mpm(n)``: the next MPM runs stop as on Ctrl-C at their n-th interval
+    (saving their checkpoint first)."""
+    import mpm.solver as S
+
+    def arm(intervals: int) -> None:
+        calls = {"n": 0}
+        advance = S._Runner._advance
+
+        def counted(self, nsteps):
+            calls["n"] += 1
+            if calls["n"] == intervals:
+                _InterruptAfter.instance.raised = True
+            return advance(self, nsteps)
+
+        monkeypatch.setattr(S, "_InterruptFlag", _InterruptAfter)
+        monkeypatch.setattr(S._Runner, "_advance", counted)
+        return monkeypatch
+
+    return arm

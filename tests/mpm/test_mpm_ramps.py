@@ -69,8 +69,8 @@ def _rigid_case(bc: BoundaryCondition) -> Case:
 @pytest.mark.parametrize("ramp", RAMPS)
 @pytest.mark.parametrize("fraction", [0.43, 1.6])
 def test_a_rigid_body_follows_the_ramped_history(kind, ramp, fraction):
-    """A rigid body's particles move exactly with the prescribed history (compiled
-    multimaterial chunk), stopped mid-ramp and after it."""
+    """A rigid body's particles move exactly with the prescribed history (two material
+    fields), stopped mid-ramp and after it."""
     bc = _bc(kind, ramp)
     dt = T_RAMP / 125.1      # below the explicit limit cell / c = 8.6e-8 s of the steel block
     steps = int(round(fraction * T_RAMP / dt))
@@ -90,7 +90,7 @@ def test_a_rigid_body_follows_the_ramped_history(kind, ramp, fraction):
 @pytest.mark.parametrize("ramp", RAMPS)
 @pytest.mark.parametrize("fraction", [0.43, 1.6])
 def test_a_ramped_traction_gives_its_impulse_to_a_free_block(ramp, fraction):
-    """Single-material compiled chunk: a free block pulled by a ramped traction holds the
+    """One material field: a free block pulled by a ramped traction holds the
     momentum F0 int_0^t R (internal forces cancel); the force of step k is the ramp at
     the step start, so the impulse falls short of the exact integral by at most F0 dt R(t)
     (mid-ramp, the linear and cosine impulses differ by 1.4 F0 dt here)."""

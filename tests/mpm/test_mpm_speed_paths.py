@@ -1,8 +1,5 @@
 """The fast MPM paths against their references.
 
-* the compiled multimaterial chunk (mpm/chunk_multimaterial.py) against the
-  Python-driven step loop it replaces (``_Runner._advance_multimaterial`` with
-  ``chunk_multimaterial.COMPILED = False``): equal to round-off, same node kernels;
 * the block-parallel P2G/G2P (mpm/parallel.py) against one serial block: equal to
   round-off (only the order of the nodal sums changes), and bit-identical whatever the
   number of threads executing the blocks;
@@ -21,8 +18,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cases.library import dls, two_layer, wave
-from mpm import chunk_multimaterial as CM
+from cases.library import dls
 from mpm.options import merge
 from mpm.parallel import BlockBuffers
 from mpm.shape import LINEAR, UGIMP, axis_weights_tuple, gimp_1d
@@ -31,16 +27,11 @@ from mpm.solver import Model, _Runner
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _run(case, overrides: dict, steps: int, compiled: bool = True, blocks: int = 1):
-    old = CM.COMPILED
-    CM.COMPILED = compiled
-    try:
-        model = Model(case, merge(case, dict({"progress": False}, **overrides)))
-        run = _Runner(model)
-        run.block_buffers = BlockBuffers(blocks, model.grid.N, model.M, model.M > 1)
-        hist = run._advance(steps)
-    finally:
-        CM.COMPILED = old
+def _run(case, overrides: dict, steps: int, blocks: int = 1):
+    model = Model(case, merge(case, dict({"progress": False}, **overrides)))
+    run = _Runner(model)
+    run.block_buffers = BlockBuffers(blocks, model.grid.N, model.M, model.M > 1)
+    hist = run._advance(steps)
     return model, run, hist
 
 
@@ -53,44 +44,8 @@ def _state(model, run, hist) -> dict:
     return out
 
 
-CASES = {
-    # imperfect interfaces with force limiting, USL, grid damping (002 DLS at 0.4 mm)
-    "dls_imperfect_usl": (lambda: dls(Dt=5.0, Dn=50.0, mpm_cell=0.4), {}, 160),
-    # perfect bond, MUSL with the re-extrapolated contact correction, kinetic damping
-    "dls_perfect_musl_kinetic": (lambda: dls(mpm_cell=0.4), {"update": "musl",
-                                                             "damping": "kinetic"}, 160),
-    # stiff interface without force limiting: the over-limit counter runs (the run
-    # diverges, a particle leaves the grid at step 6: compare the first 5 steps)
-    # undamped: the cosine displacement pulse of 002 Eq 49 through an imperfect interface
-    "wave_cosine_pulse": (lambda: wave(Dn=3e4, mpm_cell=2.0, height=4.0), {}, 80),
-    "two_layer_unlimited": (lambda: two_layer(Dt=1e6, width=2.0, height=4.0, mpm_cell=0.5),
-                            {"force_limiting": False}, 5),
-}
-
-
-@pytest.mark.parametrize("name", sorted(CASES))
-def test_mpm_compiled_multimaterial_chunk_equals_python_loop(name):
-    make, overrides, steps = CASES[name]
-    case = make()
-    a = _run(case, overrides, steps, compiled=False)
-    b = _run(case, overrides, steps, compiled=True)
-    sa, sb = _state(*a), _state(*b)
-    assert a[2].shape == b[2].shape == (steps, 8)
-    moved = np.abs(sa["x"] - a[0].particles.x0).max()
-    assert moved > 0.0 and np.abs(sa["hist"][:, 2]).max() > 0.0  # the run did something
-    for key in sa:
-        # the same kernels in both paths; fastmath lets the compiler contract and
-        # reorder sums differently when a kernel is inlined into the chunk, so the paths
-        # agree to round-off (bit for bit in a fresh process, not after other tests
-        # compiled the kernels in another order); any difference in logic is O(1)
-        assert _rel(sa[key], sb[key]) < 1e-9, f"{name}: {key} differs"
-    assert a[1].over_limit == b[1].over_limit
-    if name == "two_layer_unlimited":
-        assert b[1].over_limit[0] > 0  # the counter was exercised
-
-
 def _block():
-    """One body (single-material compiled chunk): fixed bottom, sheared top."""
+    """One body (a single material field): fixed bottom, sheared top."""
     from interfaces import Body, BoundaryCondition, Case, IsotropicElastic, Rectangle
     mat = IsotropicElastic(E=1000.0, nu=0.3, rho=1e-9)
     return Case(name="block", analysis="plane_strain", thickness=1.0, materials={"m": mat},

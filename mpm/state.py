@@ -1,0 +1,181 @@
+"""The state bundle of an MPM run: numba-compatible named tuples of arrays.
+
+The compiled time step (:mod:`mpm.step`) takes a run's state as seven bundles instead
+of dozens of loose arrays. Each bundle is a ``NamedTuple`` whose fields are views of
+the arrays owned by the run's :class:`mpm.solver.Model` (particles, grid, nodal fields,
+conditions, pair tables), so the step updates the model in place and a bundle costs
+nothing to rebuild. Field names follow mpm/LAYOUT.md.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .kernels import UPDATE_CODES
+from .multimaterial_constants import NODE_OUT_COLUMNS
+
+
+class ParticleState(NamedTuple):
+    """Particle arrays (P particles, D = 2): positions, velocities, mass, volumes, stress
+    and strain (Voigt, engineering shear), body index, traction loads and offsets, uGIMP
+    half-widths and the LR radii R_0 (004 Eq 25)."""
+    x: np.ndarray
+    v: np.ndarray
+    mass: np.ndarray
+    volume: np.ndarray
+    volume0: np.ndarray
+    stress: np.ndarray
+    strain: np.ndarray
+    field: np.ndarray
+    x0: np.ndarray
+    fext: np.ndarray
+    foff: np.ndarray
+    lp: np.ndarray
+    half_width: np.ndarray
+    r_before: np.ndarray       # axisymmetric work arrays (zero rows otherwise)
+    strain_before: np.ndarray
+    d_hoop: np.ndarray
+
+
+class GridSpec(NamedTuple):
+    """Structured background grid: node 0 position, cell sizes, node counts, shape code."""
+    origin: np.ndarray
+    cell: np.ndarray
+    nn: np.ndarray
+    kind: int
+    axis_nodes: np.ndarray     # nodes on r = 0 (axisymmetric; empty otherwise)
+
+
+class NodalState(NamedTuple):
+    """Nodal fields of mpm/LAYOUT.md ([N, M] and [N, M, D])."""
+    mass: np.ndarray
+    momentum: np.ndarray
+    force: np.ndarray
+    volume: np.ndarray
+    volume_gradient: np.ndarray
+    displacement: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+
+
+class Conditions(NamedTuple):
+    """Nodal velocity / fixed conditions with their histories (mpm.boundary)."""
+    node: np.ndarray
+    field: np.ndarray
+    comp: np.ndarray
+    vel: np.ndarray
+    t_end: np.ndarray
+    ramp: np.ndarray
+    t_ramp: np.ndarray
+
+
+class PairTables(NamedTuple):
+    """Multimaterial pair tables (:class:`mpm.multimaterial.MultimaterialTables`), the
+    out-of-plane thickness (one value or one per node), the per-node output columns
+    and the LR normal / separation buffers of the current step."""
+    thickness: np.ndarray
+    law_kind: np.ndarray
+    law_params: np.ndarray
+    settings: np.ndarray
+    rigid: np.ndarray
+    node_zone: np.ndarray
+    zone_pairs: np.ndarray
+    zone_kind: np.ndarray
+    zone_params: np.ndarray
+    node_out: np.ndarray
+    lr_normal: np.ndarray
+    lr_separation: np.ndarray
+
+
+class Blocks(NamedTuple):
+    """Per-block copies of the nodal arrays of the race-free parallel P2G
+    (:class:`mpm.parallel.BlockBuffers`; zero blocks: serial)."""
+    mass: np.ndarray
+    mom: np.ndarray
+    force: np.ndarray
+    volume: np.ndarray
+    volgrad: np.ndarray
+    disp: np.ndarray
+    pos: np.ndarray
+
+
+class StepControl(NamedTuple):
+    """The variant switches and constants of a run's time step."""
+    dt: float
+    ramp_time: float
+    ramp_code: int
+    pic: float
+    mode: int
+    kinetic_damping: bool
+    linear_u: bool
+    with_interface: bool
+    check_limit: bool
+    uses_lr: bool
+    mass_tolerance: float
+    axisymmetric: bool
+    C: np.ndarray
+
+
+def particle_state(pt, axisymmetric: bool) -> ParticleState:
+    """Bundle of :class:`mpm.particles.Particles` (LR radii: half the spacing)."""
+    half_width = np.ascontiguousarray(np.broadcast_to(0.5 * np.asarray(pt.spacing, float),
+                                                      pt.x.shape))
+    n = pt.P if axisymmetric else 0
+    return ParticleState(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain,
+                         pt.field, pt.x0, pt.fext, pt.foff, pt.lp, half_width, np.zeros(n),
+                         np.zeros((n, pt.strain.shape[1])), np.zeros(n))
+
+
+def grid_spec(grid, kind: int, axis_nodes: np.ndarray) -> GridSpec:
+    return GridSpec(grid.origin, grid.cell, grid.nn, int(kind),
+                    np.ascontiguousarray(axis_nodes, dtype=np.int64))
+
+
+def nodal_state(nd) -> NodalState:
+    return NodalState(nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
+                      nd.displacement, nd.position, nd.velocity, nd.acceleration)
+
+
+def conditions(bc) -> Conditions:
+    return Conditions(bc.node, bc.field, bc.comp, bc.vel, bc.t_end, bc.ramp, bc.t_ramp)
+
+
+def pair_tables(tables, node_out, thickness, N: int, M: int, D: int) -> PairTables:
+    """Bundle of the pair tables; a single-material run (``tables`` None) gets empty
+    tables of the right types (the multimaterial phases never run for it)."""
+    thick = np.ascontiguousarray(np.atleast_1d(np.asarray(thickness, dtype=np.float64)))
+    if tables is None:
+        from .multimaterial_constants import N_PARAMS, N_SETTINGS
+        return PairTables(thick, np.zeros((M, M), np.int64), np.zeros((M, M, N_PARAMS)),
+                          np.zeros(N_SETTINGS), np.zeros(M, np.int64), np.zeros(0, np.int64),
+                          np.zeros((0, 2), np.int64), np.zeros(0, np.int64),
+                          np.zeros((0, N_PARAMS)), np.zeros((0, NODE_OUT_COLUMNS)), np.zeros((0, M, D)),
+                          np.zeros((0, M)))
+    n_lr = N if tables.uses_lr else 0
+    if node_out is None:
+        node_out = np.zeros((0, NODE_OUT_COLUMNS))
+    return PairTables(thick, tables.law_kind, tables.law_params, tables.settings, tables.rigid,
+                      tables.node_zone, tables.zone_pairs, tables.zone_kind, tables.zone_params,
+                      node_out, np.zeros((n_lr, M, D)), np.zeros((n_lr, M)))
+
+
+def blocks(buffers) -> Blocks:
+    return Blocks(*buffers.arrays())
+
+
+def step_control(model) -> StepControl:
+    """The switches of ``model`` (:class:`mpm.solver.Model`)."""
+    opts, tb = model.opts, model.tables
+    with_interface = tb is not None and tb.has_interfaces
+    mass_tol = 0.0
+    if tb is not None and tb.uses_lr:
+        from .multimaterial_constants import S_MASS_TOL
+        mass_tol = float(tb.settings[S_MASS_TOL])
+    return StepControl(float(model.dt), float(model.ramp_time), int(model.ramp_code),
+                       float(opts["pic"]), int(UPDATE_CODES[opts["update"]]),
+                       opts["damping"] == "kinetic", opts["nodal_displacement"] == "linear",
+                       bool(with_interface), bool(with_interface and not model.force_limiting),
+                       bool(tb is not None and tb.uses_lr), mass_tol,
+                       model.case.analysis == "axisymmetric", model.C)

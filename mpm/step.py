@@ -1,0 +1,311 @@
+"""The one explicit MPM time step, and the compiled loop that runs chunks of them.
+
+Every run (one material or several, contact or imperfect interfaces, normals and
+separations from the volume gradients or from logistic regression) goes through
+:func:`run_steps`: the state travels in the bundles of :mod:`mpm.state` and each
+step is assembled from named phases, in the order of 004 Sec 3.2 (Eq 26-34) and
+mpm/LAYOUT.md:
+
+1. :func:`phase_p2g`: mass, momentum, internal and external forces (000 Eq 5-6) and,
+   with 2+ fields, volumes, volume gradients, displacements, positions (Eq 10-13, 32);
+   axisymmetric runs add the hoop force (:func:`phase_axisymmetric`);
+2. :func:`phase_multimaterial_nodes`: the nodes seen by 2+ fields, the nodal
+   displacements taken to the node (mpm/extrapolation.py) and, with LR, the logistic-
+   regression normals and separations of this particle cloud (004 Eq 19-25);
+3. :func:`phase_contact` 0: the contact-corrected extrapolation (004 Eq 26);
+4. USF only: :func:`phase_stress` from the extrapolated momenta, internal force again;
+5. :func:`phase_interface_forces`: the imperfect-interface forces (000 Eq 17-27);
+6. :func:`phase_grid_update`: grid damping, momentum update, nodal velocity conditions;
+7. :func:`phase_contact` 1 and the bonded velocity conditions (004 Eq 31, 33);
+8. :func:`phase_g2p`: FLIP/PIC particle update, x += dt sum S v+, velocity gradient,
+   and (USL) the stress update (axisymmetric: with the hoop strain);
+9. MUSL only: :func:`phase_musl` (stress from the re-extrapolated particle momenta);
+10. kinetic damping and the history row.
+
+The variant switches (update scheme, LR, interfaces, force-limit check) are read once
+per step from :class:`mpm.state.StepControl`; the particle and node loops themselves
+are those of :mod:`mpm.kernels`, :mod:`mpm.parallel` and
+:mod:`mpm.multimaterial_kernels`.
+
+``hist[s] = (t, kinetic, strain, work_ext, dissipated, work_bc, interface, grid
+kinetic)`` after step s (work and dissipation columns are that step's increments), the
+columns of ``mpm.solver.HIST_COLUMNS``.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .axisymmetric import (hoop_force, hoop_from_motion, hoop_stress_update,
+                           interface_volumes, radial_velocity, zero_axis_gradients)
+from .extrapolation import displacement_to_nodes
+from .kernels import (MUSL, USF, USL, grid_update, multimaterial_nodes, nodal_kinematics,
+                      p2g_internal_force_2d, p2g_momentum_2d, ramp, set_velocity_bc,
+                      step_velocities, stress_from_grid_2d)
+from .multimaterial_constants import OUT_STATUS, STATUS_OVER_LIMIT
+from .multimaterial_kernels import (bonded_velocity_bc_kernel, correct_momentum_kernel,
+                                    interface_forces_kernel)
+from .multimaterial_lr import lr_kernel
+from .parallel import g2p_blocks_2d, p2g_blocks_2d
+
+_OVER_LIMIT = int(STATUS_OVER_LIMIT)
+
+
+@njit(cache=True, inline="always")
+def phase_p2g(pt, grid, nd, blocks, scale, multi, internal) -> int:
+    """Step 1: P2G over the particle blocks (race-free, mpm/parallel.py). ``internal``
+    False (USF) leaves the internal force for after the stress update. Returns the
+    index of a particle outside the grid, or -1."""
+    return p2g_blocks_2d(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
+                         pt.foff, scale, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
+                         multi, internal, nd.mass, nd.momentum, nd.force, nd.volume,
+                         nd.volume_gradient, nd.displacement, nd.position, blocks.mass,
+                         blocks.mom, blocks.force, blocks.volume, blocks.volgrad, blocks.disp,
+                         blocks.pos)
+
+
+@njit(cache=True, inline="always")
+def phase_axisymmetric(pt, grid, nd, pairs) -> None:
+    """Step 1, axisymmetric (mpm/axisymmetric.py): the hoop term of the internal force;
+    with 2+ fields the nodal volumes of 000 Eq 20 with t -> r_i and no radial volume
+    gradient on the axis (000 Sec 2.5)."""
+    hoop_force(pt.x, pt.volume, pt.stress, pt.field, grid.origin, grid.cell, grid.nn, pt.lp,
+               grid.kind, nd.force)
+    if nd.volume.shape[0]:
+        interface_volumes(pt.x, pt.volume, pt.field, grid.origin, grid.cell, grid.nn, pt.lp,
+                          grid.kind, pairs.thickness, nd.volume, nd.volume_gradient)
+        zero_axis_gradients(nd.volume_gradient, grid.axis_nodes)
+
+
+@njit(cache=True, inline="always")
+def phase_multimaterial_nodes(ctl, pt, grid, nd, pairs):
+    """Step 2: the nodes where 2+ fields have mass, their nodal displacements taken to
+    the node (``linear_u``) and, with LR, this step's normals and separations (004 Eq
+    19-25) into ``pairs.lr_normal`` / ``pairs.lr_separation``."""
+    nodes = multimaterial_nodes(nd.mass)
+    if nodes.size == 0:
+        return nodes
+    if ctl.linear_u:
+        displacement_to_nodes(nd.mass, nd.displacement, nd.position, nodes, grid.origin,
+                              grid.cell, grid.nn, pairs.law_kind, pairs.law_params,
+                              pairs.node_zone, pairs.zone_pairs, pairs.zone_kind,
+                              pairs.zone_params,
+                              np.empty((nodes.size, nd.mass.shape[1], nd.momentum.shape[2])))
+    phase_lr(ctl, pt, grid, nd, pairs, nodes)
+    return nodes
+
+
+@njit(cache=True, inline="always")
+def phase_lr(ctl, pt, grid, nd, pairs, nodes) -> None:
+    """LR normals and separations of the current particle cloud on ``nodes`` (004 Eq
+    19-25; small strain: the undeformed particle radii ``pt.half_width``)."""
+    if ctl.uses_lr and nodes.size:
+        lr_kernel(pt.x, pt.field, pt.half_width, np.zeros((1, 2, 2)), False, grid.origin,
+                  grid.cell, grid.nn, nd.mass, nodes, ctl.mass_tolerance, pairs.lr_normal,
+                  pairs.lr_separation)
+
+
+@njit(cache=True, inline="always")
+def phase_contact(phase, ctl, grid, nd, pairs, nodes) -> None:
+    """Steps 3 and 7: contact / perfect-bond momentum correction on ``nodes`` (004 Eq
+    26 for ``phase`` 0, Eq 31 and 33 for ``phase`` 1; see
+    :func:`mpm.multimaterial.correct_momentum`)."""
+    correct_momentum_kernel(phase, nd.mass, nd.momentum, nd.force, nd.volume,
+                            nd.volume_gradient, nd.displacement, nd.position, grid.cell,
+                            pairs.thickness, pairs.law_kind, pairs.law_params, pairs.settings,
+                            pairs.rigid, pairs.node_zone, pairs.zone_pairs, pairs.zone_kind,
+                            pairs.zone_params, pairs.lr_normal, pairs.lr_separation, ctl.dt,
+                            nodes)
+
+
+@njit(cache=True, inline="always")
+def phase_stress(ctl, pt, grid, nd) -> float:
+    """Stress update from the nodal momenta (USF before the update, MUSL after the
+    re-extrapolation); returns the strain energy."""
+    return stress_from_grid_2d(pt.x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
+                               ctl.C, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind, ctl.dt,
+                               nd.mass, nd.momentum)
+
+
+@njit(cache=True, inline="always")
+def _count_over_limit(node_out, nodes) -> int:
+    """Multimaterial nodes flagged above the 000 Eq 26 force bound this step."""
+    c = 0
+    for k in range(nodes.shape[0]):
+        if int(node_out[nodes[k], OUT_STATUS]) & _OVER_LIMIT:
+            c += 1
+    return c
+
+
+@njit(cache=True, inline="always")
+def phase_interface_forces(ctl, t, grid, nd, pairs, nodes, over_limit) -> float:
+    """Step 5: imperfect-interface forces into ``nd.force`` (000 Eq 17-27); returns the
+    interfacial energy. With force limiting off, counts the nodes above the Eq 26
+    bound into ``over_limit`` (steps, most nodes in one step, first time)."""
+    u_int = interface_forces_kernel(nd.mass, nd.momentum, nd.volume, nd.volume_gradient,
+                                    nd.displacement, nd.position, grid.cell, pairs.thickness,
+                                    pairs.law_kind, pairs.law_params, pairs.settings,
+                                    pairs.rigid, pairs.node_zone, pairs.zone_pairs,
+                                    pairs.zone_kind, pairs.zone_params, pairs.lr_normal,
+                                    pairs.lr_separation, ctl.dt, nd.force, pairs.node_out, nodes)
+    if ctl.check_limit:
+        over = _count_over_limit(pairs.node_out, nodes)
+        if over:
+            over_limit[0] += 1.0
+            over_limit[1] = max(over_limit[1], float(over))
+            if over_limit[2] < 0.0:
+                over_limit[2] = t
+    return u_int
+
+
+@njit(cache=True, inline="always")
+def phase_bonded_conditions(ctl, nd, bc, pairs, vel, with_force) -> float:
+    """Re-impose the nodal velocity conditions on their fields and the fields perfectly
+    bonded to them after a contact correction; returns the reactions' work."""
+    if bc.vel.size == 0:
+        return 0.0
+    return bonded_velocity_bc_kernel(nd.mass, nd.momentum, nd.force, bc.node, bc.field,
+                                     bc.comp, vel, pairs.law_kind, pairs.law_params,
+                                     pairs.settings, pairs.node_zone, pairs.zone_pairs,
+                                     pairs.zone_kind, pairs.zone_params, ctl.dt, with_force)
+
+
+@njit(cache=True, inline="always")
+def phase_grid_update(ctl, alpha, t, nd, bc, vel):
+    """Step 6: grid damping, p+ = p + f dt, nodal velocity conditions at time t (their
+    histories, :func:`mpm.kernels.step_velocities`); returns (dissipated, work_bc)."""
+    step_velocities(t, ctl.dt, bc.vel, bc.t_end, bc.ramp, bc.t_ramp, vel)
+    return grid_update(nd.mass, nd.momentum, nd.force, ctl.dt, alpha, bc.node, bc.field,
+                       bc.comp, vel)
+
+
+@njit(cache=True, inline="always")
+def phase_g2p(ctl, pt, grid, nd, blocks, scale):
+    """Step 8: nodal velocity and acceleration, then G2P over the particle blocks (FLIP
+    with the ``pic`` blend; USL also updates the stress). Returns (kinetic, strain
+    energy, external work increment, lost particle or -1, grid kinetic energy)."""
+    nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
+    hoop = ctl.axisymmetric and ctl.mode == USL
+    if hoop:
+        pt.r_before[:] = pt.x[:, 0]
+        pt.strain_before[:] = pt.strain
+    ke, U, work, lost, ke_grid = g2p_blocks_2d(
+        blocks.mass.shape[0], pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain,
+        pt.field, pt.fext, pt.foff, scale, ctl.C, grid.origin, grid.cell, grid.nn, pt.lp,
+        grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity, nd.acceleration)
+    if hoop and lost < 0:
+        hoop_from_motion(pt.x, pt.r_before, pt.d_hoop)
+        U = hoop_stress_update(pt.d_hoop, pt.strain_before, pt.stress, pt.strain, pt.volume,
+                               pt.volume0, pt.field, ctl.C)
+    return ke, U, work, lost, ke_grid
+
+
+@njit(cache=True, inline="always")
+def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, multi) -> float:
+    """Step 9 (MUSL): momenta re-extrapolated from the updated particle velocities, the
+    velocity conditions and (``multi``: the step began with multimaterial nodes) the
+    contact correction applied to them, then the stress update from them; returns the
+    strain energy."""
+    p2g_momentum_2d(pt.x, pt.v, pt.mass, pt.field, grid.origin, grid.cell, grid.nn, pt.lp,
+                    grid.kind, nd.mass, nd.momentum)
+    set_velocity_bc(nd.mass, nd.momentum, bc.node, bc.field, bc.comp, vel)
+    if multi:
+        # re-extrapolated masses may cover other nodes
+        nodes = multimaterial_nodes(nd.mass)
+        if nodes.size:
+            phase_lr(ctl, pt, grid, nd, pairs, nodes)
+            phase_contact(0, ctl, grid, nd, pairs, nodes)
+            phase_bonded_conditions(ctl, nd, bc, pairs, vel, False)
+    if not ctl.axisymmetric:
+        return phase_stress(ctl, pt, grid, nd)
+    pt.strain_before[:] = pt.strain
+    phase_stress(ctl, pt, grid, nd)
+    radial_velocity(pt.x, pt.field, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
+                    nd.mass, nd.momentum, pt.d_hoop)
+    for p in range(pt.x.shape[0]):
+        pt.d_hoop[p] *= ctl.dt / pt.x[p, 0]
+    return hoop_stress_update(pt.d_hoop, pt.strain_before, pt.stress, pt.strain, pt.volume,
+                              pt.volume0, pt.field, ctl.C)
+
+
+@njit(cache=True, inline="always")
+def kinetic_damping_step(kinetic_damping, ke, ke_prev, v):
+    """Kinetic damping: zero the particle velocities when the kinetic energy has just
+    peaked. Updates ``ke_prev`` (last two kinetic energies) in place; returns (ke,
+    energy dissipated)."""
+    diss = 0.0
+    if kinetic_damping and ke < ke_prev[0] and ke_prev[0] >= ke_prev[1]:
+        v[:] = 0.0
+        diss = ke
+        ke = 0.0
+    ke_prev[1] = ke_prev[0]
+    ke_prev[0] = ke
+    return ke, diss
+
+
+@njit(cache=True, inline="always")
+def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, row) -> int:
+    """One complete time step from time ``t`` (module docstring, steps 1-10). The
+    energies go into ``row`` (a history row without its time). Returns the index of a
+    particle that left the grid, or -1."""
+    multi_fields = nd.mass.shape[1] > 1
+    scale = ramp(t, ctl.ramp_time, ctl.ramp_code)
+    lost = phase_p2g(pt, grid, nd, blocks, scale, multi_fields, ctl.mode != USF)
+    if lost >= 0:
+        return lost
+    if ctl.axisymmetric:
+        phase_axisymmetric(pt, grid, nd, pairs)
+    nodes = phase_multimaterial_nodes(ctl, pt, grid, nd, pairs) if multi_fields \
+        else np.empty(0, np.int64)
+    multi = nodes.size > 0
+    if multi:
+        phase_contact(0, ctl, grid, nd, pairs, nodes)
+    if ctl.mode == USF:
+        phase_stress(ctl, pt, grid, nd)
+        p2g_internal_force_2d(pt.x, pt.volume, pt.stress, pt.field, grid.origin, grid.cell,
+                              grid.nn, pt.lp, grid.kind, nd.force)
+    u_int = 0.0
+    if multi and ctl.with_interface:
+        u_int = phase_interface_forces(ctl, t, grid, nd, pairs, nodes, over_limit)
+    diss, wbc = phase_grid_update(ctl, alpha, t, nd, bc, vel)
+    if multi:
+        phase_contact(1, ctl, grid, nd, pairs, nodes)
+        wbc += phase_bonded_conditions(ctl, nd, bc, pairs, vel, True)
+    ke, U, work, lost, ke_grid = phase_g2p(ctl, pt, grid, nd, blocks, scale)
+    if lost >= 0:
+        return lost
+    if ctl.mode == MUSL:
+        U = phase_musl(ctl, pt, grid, nd, bc, pairs, vel, multi)
+    row[1] = ke
+    row[2] = U
+    row[3] = work
+    row[4] = diss
+    row[5] = wbc
+    row[6] = u_int
+    row[7] = ke_grid
+    return -1
+
+
+@njit(cache=True)
+def run_steps(nsteps, t0, alpha, ctl, pt, grid, nd, bc, pairs, blocks, hist, ke_prev,
+              over_limit):
+    """``nsteps`` time steps from ``t0`` with grid damping ``alpha`` (constant over the
+    chunk), recording ``hist``. Kinetic damping (``ctl.kinetic_damping``) zeroes the
+    particle velocities whenever the kinetic energy has just peaked. Returns (steps
+    done, index of a lost particle or -1); ``ke_prev`` (last two kinetic energies) and
+    ``over_limit`` are updated in place."""
+    vel = np.empty_like(bc.vel)
+    t = t0
+    for s in range(nsteps):
+        row = hist[s]
+        lost = time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, row)
+        if lost >= 0:
+            return s, lost
+        t += ctl.dt
+        row[0] = t
+        ke, dk = kinetic_damping_step(ctl.kinetic_damping, row[1], ke_prev, pt.v)
+        row[1] = ke
+        row[4] += dk
+        if not np.isfinite(ke):
+            return s + 1, -1
+    return nsteps, -1
