@@ -22,6 +22,7 @@ from .compare import compare
 from .methods import supported_methods
 from .output import RUN_OUTPUTS, check_output_dir, staged_output
 from .plots import plot_comparison, plot_sweep
+from .resume import RunRecord
 from .sweep import load_spec, sweep
 
 
@@ -100,12 +101,26 @@ def cmd_show(args) -> int:
 
 
 def cmd_run(args) -> int:
-    out = check_output_dir(args.out, RUN_OUTPUTS)   # refuse an impossible --out before computing
-    case = load_case(args.case, parse_assignments(args.set))
-    options = parse_options(args.option)
+    out = check_output_dir(args.resume or args.out, RUN_OUTPUTS)   # refuse an impossible --out first
+    record = RunRecord(out)
+    if args.resume:
+        if args.case or args.set or args.option:
+            raise CaseError("--resume DIR continues the recorded run; give no case, --set or --option")
+        spec = record.load()
+        case, options = spec["case"], spec["options"]
+        args.methods, args.no_vtk, args.series = spec["methods"], spec["no_vtk"], spec["series"]
+    elif not args.case:
+        raise CaseError("run needs a case (a name from imperfect list or a .toml file), or --resume DIR")
+    else:
+        case = load_case(args.case, parse_assignments(args.set))
+        options = parse_options(args.option)
+        record.start(case, args.methods, options, args.no_vtk, args.series)
+    options = record.with_mpm_checkpoint(options, resume=bool(args.resume))
     with staged_output(out) as stage:
         series = _series_option(args, case, options, stage)
-        comp = compare(case, args.methods, options=options)
+        comp = compare(case, args.methods, options=options,
+                       finished=record.finished() if args.resume else None,
+                       on_result=record.save_result)
         if not comp.results:                  # nothing ran: say why, write nothing
             raise CaseError("; ".join(f"{m}: {msg}" for m, msg in comp.failures.items()))
         if series and "mpm" in comp.results:  # the frames move with the folder
@@ -214,11 +229,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--set", action="append", metavar="KEY=VALUE")
     s.add_argument("--params", action="store_true", help="list the case's --set parameters with defaults and units")
     r = sub.add_parser("run", help="run a case across methods and plot agreement")
-    r.add_argument("case", help="a case name (imperfect list) or a .toml case file")
+    r.add_argument("case", nargs="?", help="a case name (imperfect list) or a .toml case file")
     r.add_argument("--methods", default="all", help="comma list of analytic,fem,mpm,cpd or 'all'")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", help="case parameter override")
     r.add_argument("--option", action="append", metavar="METHOD.KEY=VALUE", help="solver option, e.g. mpm.cell=0.2")
     r.add_argument("--out", default="out")
+    r.add_argument("--resume", metavar="DIR", help="continue the interrupted run whose --out was DIR "
+                   "(finished methods are kept, MPM continues from its checkpoint)")
     r.add_argument("--no-vtk", action="store_true", help="no VTU file of each method's final state")
     r.add_argument("--series", type=int, default=0, metavar="N",
                    help="MPM: also write N VTU frames over the run and a .pvd into OUT/<case>_mpm_vtk/")
@@ -255,8 +272,13 @@ def main(argv=None) -> int:
         print("error: out of memory: use a coarser discretization (element_size, cell, h)", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        hint = (f"; finished points are kept: imperfect sweep --resume {args.resume or args.out}"
-                if args.command == "sweep" else "; no output was written")
+        if args.command == "sweep":
+            hint = f"; finished points are kept: imperfect sweep --resume {args.resume or args.out}"
+        elif args.command == "run":
+            hint = (f"; finished methods and the MPM state are kept: imperfect run --resume "
+                    f"{args.resume or args.out}")
+        else:
+            hint = "; no output was written"
         print(f"\ninterrupted{hint}", file=sys.stderr)
         return 130
 

@@ -138,17 +138,25 @@ def _is_number(v) -> bool:
 
 
 def compare(case: Case, methods="all", options: dict | None = None, progress: bool = True,
-            skip_unavailable: bool = True) -> Comparison:
+            skip_unavailable: bool = True, finished: dict | None = None,
+            on_result=None) -> Comparison:
     """Run ``methods`` (a list, comma string or ``"all"``) on ``case`` and compare.
 
     ``options`` maps a method name to keyword options of its ``solve``. With
     ``skip_unavailable`` a method that is unavailable, does not handle the case or
     fails with a CaseError/SolverError is reported in ``failures``, not raised.
+    ``finished`` holds Results already computed (a resumed run: not run again);
+    ``on_result(method, result)`` is called as each method finishes.
     """
     options = options or {}
     names = resolve_methods(case, methods)
     results, failures = {}, {}
     for m in names:
+        if finished and m in finished:
+            results[m] = finished[m]
+            if progress:
+                print(f"[{m}] kept from the interrupted run", file=sys.stderr, flush=True)
+            continue
         if progress:
             print(f"[{m}] running {case.name} ...", file=sys.stderr, flush=True)
         try:
@@ -162,6 +170,8 @@ def compare(case: Case, methods="all", options: dict | None = None, progress: bo
             if progress:
                 print(f"[{m}] not run: {e}", file=sys.stderr, flush=True)
             continue
+        if on_result is not None:
+            on_result(m, results[m])
         if progress:
             print(f"[{m}] done in {results[m].timings.get('total', float('nan')):.2f} s", file=sys.stderr, flush=True)
     reference = case.reference if case.reference in results else None
