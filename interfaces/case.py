@@ -398,6 +398,8 @@ class Case:
             arr = np.asarray(seg, dtype=float) if _is_numeric_list(seg) else None
             if arr is None or arr.shape != (2, self.dimension):
                 raise CaseError(f"lines.{k} must be two points [[x0, y0], [x1, y1]], got {seg!r}")
+            for i, j in np.ndindex(arr.shape):
+                check_number(f"lines.{k}[{i}][{j}]", arr[i, j], low=-1e30, high=1e30)
 
     def _check_overlaps(self, samples: int = 4096) -> None:
         """Two bodies must not share volume (each point has one material). Tested on a
