@@ -387,9 +387,12 @@ class Case:
                 self.stiffness_direction()
             except CaseError as e:
                 raise CaseError(f"measurements.stiffness.{e}") from None
-        for m in self.discretization:
+        for m, opts in self.discretization.items():
             if m not in METHODS:
                 raise CaseError(f"discretization.{m} is not a method ({', '.join(METHODS)})")
+            if not isinstance(opts, dict):
+                raise CaseError(f"discretization.{m} must be a table of {m} options "
+                                f"([discretization.{m}] with key = value lines), got {opts!r}")
         if self.reference is not None and self.reference not in METHODS:
             raise CaseError(f"reference must be one of {', '.join(METHODS)} or absent, got {self.reference!r}")
         if self.analytic is not None and "model" not in self.analytic:
