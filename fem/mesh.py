@@ -14,13 +14,12 @@ boundaries; ``fem.gmsh_mesh`` meshes those.
 """
 from __future__ import annotations
 
-
-import os
 from dataclasses import dataclass
 
 import numpy as np
 
 from interfaces.errors import CaseError
+from interfaces.resources import available_memory
 
 
 @dataclass
@@ -210,21 +209,6 @@ def grid_compatible(case) -> bool:
 
 
 BYTES_PER_DOF = 4.5e3     # measured peak: 1.04 GB at 266k DOFs (9-node quads), 0.93 GB at 241k (curved triangles)
-
-
-def available_memory() -> float | None:
-    """Bytes of memory available to a new allocation (Linux MemAvailable), None if unknown."""
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024.0
-    except OSError:
-        pass
-    try:
-        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):
-        return None
 
 
 def check_size(estimate: float, element_size, max_dofs: float) -> None:

@@ -87,8 +87,7 @@ def _options(case, options: dict) -> dict:
         opts["element_size"] = h
     unknown = set(opts) - set(OPTIONS)
     if unknown:
-        raise CaseError(f"fem option {sorted(unknown)[0]!r} is unknown; options: "
-                        + "; ".join(f"{k}: {v}" for k, v in OPTIONS.items()))
+        raise CaseError(f"fem option {sorted(unknown)[0]!r} is unknown; options: {', '.join(OPTIONS)}")
     order = opts.get("order", 2)
     if isinstance(order, bool) or order not in (1, 2):
         raise CaseError(f"fem option order must be 1 or 2, got {order!r}")

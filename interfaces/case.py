@@ -387,9 +387,12 @@ class Case:
                 self.stiffness_direction()
             except CaseError as e:
                 raise CaseError(f"measurements.stiffness.{e}") from None
-        for m in self.discretization:
+        for m, opts in self.discretization.items():
             if m not in METHODS:
                 raise CaseError(f"discretization.{m} is not a method ({', '.join(METHODS)})")
+            if not isinstance(opts, dict):
+                raise CaseError(f"discretization.{m} must be a table of {m} options "
+                                f"([discretization.{m}] with key = value lines), got {opts!r}")
         if self.reference is not None and self.reference not in METHODS:
             raise CaseError(f"reference must be one of {', '.join(METHODS)} or absent, got {self.reference!r}")
         if self.analytic is not None and "model" not in self.analytic:
@@ -398,6 +401,8 @@ class Case:
             arr = np.asarray(seg, dtype=float) if _is_numeric_list(seg) else None
             if arr is None or arr.shape != (2, self.dimension):
                 raise CaseError(f"lines.{k} must be two points [[x0, y0], [x1, y1]], got {seg!r}")
+            for i, j in np.ndindex(arr.shape):
+                check_number(f"lines.{k}[{i}][{j}]", arr[i, j], low=-1e30, high=1e30)
 
     def _check_overlaps(self, samples: int = 4096) -> None:
         """Two bodies must not share volume (each point has one material). Tested on a

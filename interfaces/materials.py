@@ -122,10 +122,16 @@ class Material:
 _MATERIALS: dict[str, type] = {}
 
 
+#: largest modulus / density accepted (as for the analytic models): the stiffness matrices
+#: of larger ones overflow in their inversion
+MAX_CONSTANT = 1e30
+
+
 def _positive(obj, *names: str) -> None:
-    """Validate (> 0, finite) and store the named fields of a frozen dataclass."""
+    """Validate (0 < value <= MAX_CONSTANT) and store the named fields of a frozen dataclass."""
     for name in names:
-        object.__setattr__(obj, name, check_number(name, getattr(obj, name), low=0, low_open=True))
+        v = check_number(name, getattr(obj, name), low=0, low_open=True)
+        object.__setattr__(obj, name, check_number(name, v, high=MAX_CONSTANT))
 
 
 def _register(cls):

@@ -25,6 +25,8 @@ from scipy.spatial import cKDTree
 
 from interfaces.errors import CaseError
 
+from .budget import check_memory
+
 SIDES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
 DISPLACEMENT_KINDS = ("fixed", "displacement", "deformation_gradient")
 
@@ -95,14 +97,20 @@ def grid_axes(lo: np.ndarray, hi: np.ndarray, h: float, pad: int, grid: str = "v
     per axis; ``"cell"``: cell centres, n = L/h per axis (100 x 100 for the unit square).
     """
     axes = []
-    for a, b in zip(lo, hi):
-        L = b - a
-        r = L / h
-        n = int(round(r)) if abs(r - round(r)) < 1e-6 else int(math.floor(r))
-        n = max(n, 1) + (1 if grid == "vertex" else 0)
-        off = a + 0.5 * (L - (n - 1) * h)
+    for a, b, n in zip(lo, hi, axis_points(lo, hi, h, 0, grid)):
+        off = a + 0.5 * (b - a - (n - 1) * h)
         axes.append(off + h * np.arange(-pad, n + pad))
     return axes
+
+
+def axis_points(lo, hi, h: float, pad: int, grid: str = "vertex") -> list[int]:
+    """Number of grid points per axis of :func:`grid_axes` (nothing allocated)."""
+    counts = []
+    for a, b in zip(lo, hi):
+        r = (b - a) / h
+        n = int(round(r)) if abs(r - round(r)) < 1e-6 else int(math.floor(r))
+        counts.append(max(n, 1) + (1 if grid == "vertex" else 0) + 2 * pad)
+    return counts
 
 
 def distance_to_shape(shape, P: np.ndarray) -> np.ndarray:
@@ -153,6 +161,7 @@ def discretize(case, h: float, delta: float, overlap: float, grid: str = "vertex
     names = [b.name for b in case.bodies]
     lo, hi = case.bounds()
     pad = int(math.ceil(delta / h)) + 1
+    check_memory(axis_points(lo, hi, h, pad, grid), h, delta)
     axes = grid_axes(np.asarray(lo, float), np.asarray(hi, float), h, pad, grid)
     G = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, d)
     tol = 1e-9 * h

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import fem
-from cases.library import dcb, dls
+from cases.library import dcb, dls, wood_strand
 from interfaces.analytic.dcb import dcb_kb_from_stiffness, dcb_stiffness
 from interfaces.analytic.dls import dls_identical_stiffness
 from interfaces.case import Body, BoundaryCondition, Case, InterfacePair
@@ -30,9 +30,9 @@ def shear_lag(Dt):
 def test_dls_matches_shear_lag_and_both_stiffness_methods_agree(Dt):
     r = fem.solve(dls(Dt=Dt), h=0.3, fields=False)
     q = r.quantities
-    # measured deviation from the shear-lag model is <= 0.22 % at every Dt (h = 0.075 .. 0.3);
-    # 1 % is far below what a wrong element or wrong Eq 43 averaging produces
-    assert q["stiffness"] == pytest.approx(shear_lag(Dt), rel=1e-2)
+    # measured deviation from the printed shear lag (strips rigid in shear) at h = 0.3:
+    # -0.05 % (Dt = 1) .. -0.22 % (20), +0.22 % (inf); 0.5 % is about twice the largest
+    assert q["stiffness"] == pytest.approx(shear_lag(Dt), rel=5e-3)
     assert q["stiffness_energy"] == pytest.approx(q["stiffness"], rel=1e-6)
     # P = 2 x traction x t x W (002 Sec 3.1, load = 1 MPa) and Clapeyron: U = W_ext / 2
     assert q["load"] == pytest.approx(2 * 1.0 * T * W, rel=1e-10)
@@ -211,17 +211,37 @@ def _dcb_run(Dn, h, length=50.0):
     return fem.solve(dcb(Dn=Dn, length=length), h=h, fields=False).quantities
 
 
-def test_dcb_matches_beam_on_elastic_foundation():
-    """kb from the perfect-interface run (Eq 46-47 inverted), then FEM vs Eq 46-47."""
+def _independent_kb(references, size):
+    """kb (002 Eq 46-47 inverted) of the cracked-strip model of tests/references, which
+    shares nothing with fem/ but the wood constants."""
+    w = wood_strand(fiber=(1.0, 0.0))
+    k = references.dcb_cracked_strip.dcb_perfect_stiffness(w.E_A, w.E_T, w.G_A, w.nu_A, size=size)
+    return k, dcb_kb_from_stiffness(k, 25.0, 0.6, 10.0, 10000.0)
+
+
+def test_dcb_matches_beam_on_elastic_foundation(references):
+    """Perfect interface (interface elements with Dn = inf) against an independent FEM of
+    the same cracked strip on the same mesh; then FEM vs Eq 46-47 with that kb.
+
+    The printed kb = 7808 MPa (002, 250 eight-node elements) is not asserted: kb is not
+    mesh-converged. The perfect-bond DCB has a crack-tip singularity, the stiffness
+    converges at first order and kb (~ Delta^-4, Delta/a = 0.04) amplifies that 50-fold:
+    kb = 7971 (h = 0.2), 7696 (0.1), 7573 (0.05) in both models, so 7808 is one mesh's value
+    (between h = 0.1 and 0.2), not a reference. Measured: fem vs the independent model
+    6e-9 in stiffness at h = 0.2 (3e-9 at 0.1); Eq 46-47 vs FEM -0.54 % (Dn = 0.1),
+    -0.78 % (1), -1.36 % (10), -1.85 % (100), -0.43 % (1e4): the beam model's error (mesh
+    changes it by < 1e-4), largest where Dn ~ kb / (2 W)."""
     h = 0.2
     perfect = _dcb_run(math.inf, h)
     assert perfect["stiffness_energy"] == pytest.approx(perfect["stiffness"], rel=1e-6)
-    kb = dcb_kb_from_stiffness(perfect["stiffness"], 25.0, 0.6, 10.0, 10000.0)
-    assert kb == pytest.approx(7808.0, rel=0.05)            # 002: kb = 7808 MPa from its FEA
-    for Dn in (0.1, 1.0, 10.0, 100.0, 1e4):
+    k_ref, kb = _independent_kb(references, h)
+    assert perfect["stiffness"] == pytest.approx(k_ref, rel=1e-7)
+    assert dcb_kb_from_stiffness(perfect["stiffness"], 25.0, 0.6, 10.0, 10000.0) == pytest.approx(kb, rel=5e-6)
+    for Dn, tol in ((0.1, 1e-2), (1.0, 1.2e-2), (10.0, 2e-2), (100.0, 2.5e-2), (1e4, 1e-2)):
         q = _dcb_run(Dn, h)
         ref = dcb_stiffness(25.0, 0.6, 10.0, 10000.0, Dn, kb)
-        assert q["stiffness"] == pytest.approx(ref, rel=3e-2), Dn
+        assert q["stiffness"] == pytest.approx(ref, rel=tol), Dn
+        assert q["stiffness"] < ref                       # the foundation model is stiffer here
         assert q["stiffness_energy"] == pytest.approx(q["stiffness"], rel=1e-6)
 
 
@@ -299,15 +319,21 @@ def test_uniform_deformation_is_exact_on_quads_and_triangles(interface, load_cas
 
 # ---------------------------------------------------------------- full-resolution validations
 @pytest.mark.slow
-def test_full_resolution_dls_and_dcb_validation():
+def test_full_resolution_dls_and_dcb_validation(references):
     """The cases' own FEM resolution (h = 0.1 mm): DLS over the Dt range of 002 Fig 5 and DCB
     over Dn of 002 Fig 9, both stiffness methods."""
     for Dt in DT_VALUES:
         q = fem.solve(dls(Dt=Dt), fields=False).quantities
         assert q["stiffness"] == pytest.approx(shear_lag(Dt), rel=5e-3)
         assert q["stiffness_energy"] == pytest.approx(q["stiffness"], rel=1e-8)
-    kb = dcb_kb_from_stiffness(fem.solve(dcb(), fields=False).quantities["stiffness"], 25.0, 0.6, 10.0, 10000.0)
-    assert kb == pytest.approx(7808.0, rel=3e-2)
+    k_ref, kb = _independent_kb(references, 0.1)                  # 7696 MPa at the cases' mesh
+    assert fem.solve(dcb(), fields=False).quantities["stiffness"] == pytest.approx(k_ref, rel=1e-7)
+    # kb is mesh-dependent (crack-tip singularity): the stiffness converges at first order
+    # (measured order 1.11 from h = 0.2, 0.1, 0.05; 1.01 from 0.1, 0.05, 0.025, where kb = 7513);
+    # Richardson-extrapolated kb = 7454 MPa
+    k_coarse, k_fine = _independent_kb(references, 0.2)[0], _independent_kb(references, 0.05)[0]
+    order = math.log2((k_coarse - k_ref) / (k_ref - k_fine))
+    assert 0.9 < order < 1.4
     for Dn in (0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 1e3, 1e4, 1e12):
         q = fem.solve(dcb(Dn=Dn), fields=False).quantities
         assert q["stiffness"] == pytest.approx(dcb_stiffness(25.0, 0.6, 10.0, 10000.0, Dn, kb), rel=3e-2)

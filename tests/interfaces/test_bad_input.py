@@ -36,6 +36,9 @@ BAD = [
     (("measurements", "bogus"), {}, r"measurements\.bogus is not a measurement"),
     (("boundary_conditions",), [], r"measurements\.stiffness: no boundary condition loads the specimen"),
     (("bodies", 2, "shape", "x0"), 1.0, r"bodies 'center' and 'outer_right' overlap \(about 5 mm\^2"),
+    (("materials", "wood", "E_A"), 1.7e308, r"materials\.wood\.E_A must be <= 1e\+30"),     # FEM property suite
+    (("discretization", "fem"), math.inf, r"discretization\.fem must be a table of fem options"),  # FEM property suite
+    (("lines", "axis", 0, 0), math.nan, r"lines\.axis\[0\]\[0\] must be a number, got NaN"),   # FEM property suite
 ]
 
 

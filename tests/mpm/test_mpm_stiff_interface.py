@@ -20,7 +20,7 @@ def _dls(D: float):
 
 
 def test_stiff_interface_with_force_limiting_equals_the_perfect_interface():
-    """Measured: k(1e12) / k(inf) - 1 = -1e-6 (displacement and energy stiffness);
+    """Measured: k(1e12) / k(inf) - 1 = -1.0e-6 (displacement), -0.9e-6 (energy stiffness);
     every interface node is limited, i.e. stick with zero energy.  With the printed
     factors 2 of Eq 26 (midpoint rule) the same run diverged after 570 steps."""
     perfect = mpm.solve(_dls(math.inf), ramp_time=5e-5, progress=False)
@@ -28,12 +28,12 @@ def test_stiff_interface_with_force_limiting_equals_the_perfect_interface():
     assert stiff.diagnostics["stopped_by"] == "kinetic_energy"
     assert not stiff.diagnostics["warnings"]
     for key in ("stiffness", "stiffness_energy"):
-        assert stiff.quantities[key] == pytest.approx(perfect.quantities[key], rel=5e-3)
+        assert stiff.quantities[key] == pytest.approx(perfect.quantities[key], rel=5e-6)
     assert stiff.quantities["interface_energy"] == pytest.approx(0.0, abs=1e-12)
-    # W = U + K + D: measured 3.5e-5 for the perfect run (it was -3e9 when round-off
+    # W = U + K + D: measured 3.9e-5 (perfect) and 4.1e-5 (stiff) (it was -3e9 when round-off
     # momenta on fields with ~1e-70 GIMP weights entered the damping dissipation)
     for r in (perfect, stiff):
-        assert abs(r.quantities["energy_balance_error"]) < 2e-3
+        assert abs(r.quantities["energy_balance_error"]) < 2e-4
 
 
 def test_stiff_interface_without_force_limiting_stops_with_advice():

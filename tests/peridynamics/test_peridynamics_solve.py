@@ -134,9 +134,13 @@ def test_homogeneous_body_has_no_interface_effect():
     assert np.allclose(X2[o2], X1[o1])
     dU = np.linalg.norm(r2.fields["displacement"][o2] - r1.fields["displacement"][o1], axis=1)
     scale = np.abs(r1.fields["displacement"]).max()
-    near = np.abs(X2[o2, 0]) <= 3.01 * H
-    assert dU.max() > 1e-4 * scale                     # the model "feels" the interface
-    assert dU[~near].max() < dU[near].max()
+    # measured max |du| / max |u|: 8.5 % in the band (|x| <= l_ov / 2), 4.7 % from there to
+    # delta, 2.4 % to 2 delta, 1.4 % beyond (0 in the prescribed layers)
+    x = np.abs(X2[o2, 0])
+    band, far = x <= 1.505 * H, (x > 6.02 * H) & (x < 0.5 - 1e-9)
+    assert 0.04 * scale < dU[band].max() < 0.15 * scale    # the model "feels" the interface
+    assert dU[far].max() < 0.03 * scale
+    assert dU[far].max() < 0.3 * dU[band].max()
 
 
 # ---------------------------------------------------------------- finite deformation (003 Table 3)
@@ -150,11 +154,16 @@ def _table3(h):
         # normalised by the state right after the boundary increment; later steps start
         # from the secant predictor, which lowers the first residual
         assert (r[0] == 1.0 if k == 0 else r[0] < 1.0) and r[-1] <= 1e-11
-        assert len(r) - 1 <= 7                              # 003 Table 3: 4 iterations per step
-        # quadratic rate in the asymptotic range (above round-off)
+        # 003 Table 3: 4 iterations per step; measured at h = 0.05: 3, 3, 3, 4, 5
+        assert len(r) - 1 <= 5
+        # quadratic rate in the asymptotic range (above round-off): measured b / a^2 <= 1.8
         for a, b in zip(r[:-1], r[1:]):
-            if a < 1e-3 and b > 1e-13:
-                assert b < 1e3 * a * a
+            if a < 1e-2 and b > 1e-13:
+                assert b < 10.0 * a * a
+    # the converged state is in equilibrium: the reactions of the two gripped sides balance
+    q = res.quantities
+    for c in "xy":
+        assert abs(q[f"reaction_all_xmin_{c}"] + q[f"reaction_all_xmax_{c}"]) < 1e-9 * abs(q["reaction_all_xmax_x"])
     U = res.fields["displacement"]
     X = res.fields["position"]
     right = np.isclose(X[:, 0], 0.5)
@@ -231,6 +240,21 @@ def test_delta_convergence_to_plane_strain_fem_reduced():
     assert e[0] > e[1] > e[2]
     assert e[2] / e[0] < 0.35                  # about first order in delta
     assert e[2] < 0.06
+
+
+@pytest.mark.parametrize("pset,load_case,interface,line,hole,ratio,last", [
+    # measured errors 32.7 / 19.3 / 11.7 % (ratios 0.59, 0.61): the stiff inclusion converges slowest
+    (1, 3, "horizontal", "vertical", False, (0.7, 0.7), 0.15),    # 003 Fig 9 top
+    # measured 3.08 / 1.64 / 1.24 % (ratios 0.53, 0.75): the hole edge's own horizon error
+    (4, 1, "vertical", "horizontal", True, (0.65, 0.85), 0.016),  # 003 Fig 9 bottom (hole)
+], ids=["set1", "hole"])
+def test_delta_convergence_reduced_set1_and_hole(pset, load_case, interface, line, hole, ratio, last):
+    """The reduced grid of the set-3 test (delta/h = 3.01, h = 0.1, 0.05, 0.025; FEM at
+    0.025, which is 1e-5 from FEM at 0.01 on these errors) for the other two 003 Fig 9 cases."""
+    case = _square(parameter_set=pset, load_case=load_case, interface=interface, hole=hole)
+    e = _delta_convergence(case, line, "ux", [0.1, 0.05, 0.025], 0.025)
+    assert e[1] < ratio[0] * e[0] and e[2] < ratio[1] * e[1]
+    assert e[2] < last
 
 
 @pytest.mark.slow
