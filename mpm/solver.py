@@ -178,7 +178,8 @@ class Model:
         # out-of-plane extent of a node's cell: the thickness, or r_i per radian (000 Eq 20)
         thickness = AX.node_radii(g.node_positions(), g.cell) if self.axisymmetric \
             else self.case.thickness
-        return (S.step_control(self), S.particle_state(self.particles, self.axisymmetric),
+        return (S.step_control(self), S.particle_state(self.particles, self.axisymmetric,
+                                                   self.opts["update"] == "musl"),
                 S.grid_spec(g, self.kind, self.axis_nodes), S.nodal_state(self.nodal),
                 S.conditions(self.bcs),
                 S.pair_tables(self.tables, self.node_out, thickness, g.N, self.M, g.D),

@@ -33,6 +33,7 @@ class ParticleState(NamedTuple):
     foff: np.ndarray
     lp: np.ndarray
     half_width: np.ndarray
+    x_before: np.ndarray       # MUSL: start-of-step positions (zero rows otherwise)
     r_before: np.ndarray       # axisymmetric work arrays (zero rows otherwise)
     strain_before: np.ndarray
     d_hoop: np.ndarray
@@ -118,13 +119,15 @@ class StepControl(NamedTuple):
     C: np.ndarray
 
 
-def particle_state(pt, axisymmetric: bool) -> ParticleState:
-    """Bundle of :class:`mpm.particles.Particles` (LR radii: half the spacing)."""
+def particle_state(pt, axisymmetric: bool, musl: bool) -> ParticleState:
+    """Bundle of :class:`mpm.particles.Particles` (LR radii: half the spacing) with the
+    work arrays of MUSL and axisymmetric runs."""
     half_width = np.ascontiguousarray(np.broadcast_to(0.5 * np.asarray(pt.spacing, float),
                                                       pt.x.shape))
     n = pt.P if axisymmetric else 0
     return ParticleState(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain,
-                         pt.field, pt.x0, pt.fext, pt.foff, pt.lp, half_width, np.zeros(n),
+                         pt.field, pt.x0, pt.fext, pt.foff, pt.lp, half_width,
+                         np.zeros((pt.P if musl else 0, pt.x.shape[1])), np.zeros(n),
                          np.zeros((n, pt.strain.shape[1])), np.zeros(n))
 
 
