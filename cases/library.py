@@ -213,7 +213,7 @@ def core_sleeve(Dt: float = 10.0, Dn: float = math.inf, radius: float = 1.0, out
                         "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
                                 "normal_vector": [1.0, 0.0], "grid_anchor": "origin"}},
         reference="fem",
-        lines={"interface": [[radius, 0.0], [radius, length]]},
+        lines={"core": [[0.5 * radius, 0.0], [0.5 * radius, length]]},
     )
 
 
