@@ -99,8 +99,62 @@ def _add_tuple(Kloc, f_loc, slots, k, d, g, H):
 
 
 @njit(cache=True)
+def _triple_2d(Kloc, f_loc, xi, a, b, w, A):
+    """psi2 of the 2D triple (p, a, b) with s = xi_a x xi_b: add its gradient to f_loc and its
+    Hessian to Kloc (neighbour slots a + 1, b + 1), return its energy."""
+    xa0 = xi[a, 0]
+    xa1 = xi[a, 1]
+    xb0 = xi[b, 0]
+    xb1 = xi[b, 1]
+    s = xa0 * xb1 - xa1 * xb0
+    sg = 1.0 if s >= 0.0 else -1.0
+    aa = abs(s)
+    d1 = w * (aa - A) / A * sg
+    d2 = w / A
+    # ds/dxi_a = (xb1, -xb0), ds/dxi_b = (-xa1, xa0)
+    ia = 2 * (a + 1)
+    ib = 2 * (b + 1)
+    f_loc[ia] += d1 * xb1
+    f_loc[ia + 1] -= d1 * xb0
+    f_loc[ib] -= d1 * xa1
+    f_loc[ib + 1] += d1 * xa0
+    if Kloc.shape[0] != 0:
+        t0 = d2 * xb1
+        t1 = d2 * xb0
+        Kloc[ia, ia] += t0 * xb1
+        Kloc[ia, ia + 1] -= t0 * xb0
+        Kloc[ia + 1, ia] -= t0 * xb0
+        Kloc[ia + 1, ia + 1] += t1 * xb0
+        u0 = d2 * xa1
+        u1 = d2 * xa0
+        Kloc[ib, ib] += u0 * xa1
+        Kloc[ib, ib + 1] -= u0 * xa0
+        Kloc[ib + 1, ib] -= u0 * xa0
+        Kloc[ib + 1, ib + 1] += u1 * xa0
+        # block (a, b) = d2 g_a g_b^T + d1 [[0, 1], [-1, 0]]
+        k00 = -t0 * xa1
+        k01 = t0 * xa0 + d1
+        k10 = t1 * xa1 - d1
+        k11 = -t1 * xa0
+        Kloc[ia, ib] += k00
+        Kloc[ia, ib + 1] += k01
+        Kloc[ia + 1, ib] += k10
+        Kloc[ia + 1, ib + 1] += k11
+        Kloc[ib, ia] += k00
+        Kloc[ib + 1, ia] += k01
+        Kloc[ib, ia + 1] += k10
+        Kloc[ib + 1, ia + 1] += k11
+    return 0.5 * w * (aa - A) ** 2 / A
+
+
+
+@njit(cache=True)
 def _close_central(Kloc, f_loc, nl, d):
-    """Central rows/columns: f_p = -sum_m f_m, K_mp = -sum_n K_mn, K_pp = sum_mn K_mn."""
+    """Central rows/columns: f_p = -sum_m f_m, K_mp = -sum_n K_mn, K_pp = sum_mn K_mn.
+
+    The neighbour part of Kloc is symmetric, so K_pm = K_mp^T and the column sums are
+    the row sums: one contiguous pass over the neighbour rows.
+    """
     for al in range(d):
         s = 0.0
         for m in range(1, nl):
@@ -108,18 +162,21 @@ def _close_central(Kloc, f_loc, nl, d):
         f_loc[al] = -s
     if Kloc.shape[0] == 0:
         return
+    for al in range(d):
+        for be in range(d):
+            Kloc[al, be] = 0.0
     for r in range(d, nl * d):
+        row = Kloc[r]
         for be in range(d):
             s = 0.0
             for n in range(1, nl):
-                s += Kloc[r, n * d + be]
-            Kloc[r, be] = -s
-    for al in range(d):
-        for c in range(nl * d):
-            s = 0.0
-            for m in range(1, nl):
-                s += Kloc[m * d + al, c]
-            Kloc[al, c] = -s
+                s += row[n * d + be]
+            row[be] = -s
+            Kloc[be, r] = -s
+    for m in range(1, nl):
+        for al in range(d):
+            for be in range(d):
+                Kloc[al, be] -= Kloc[m * d + al, be]
 
 
 @njit(cache=True)
@@ -149,6 +206,56 @@ def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data):
 
 
 @njit(cache=True)
+def block_slots(centers, nptr, nidx, rowptr, cols):
+    """Where each block of each central point's local tangent goes in the fixed pattern.
+
+    For central point c with local nodes (p, then its neighbours nidx[nptr[c]:nptr[c+1]]),
+    ``slots[sptr[c] + m * nl + n]`` is the block slot of node nodes[n] in the node row of
+    nodes[m] (kk - rowptr[nodes[m]] in the notation of :func:`_scatter`). Built once per
+    pattern with the binary searches that :func:`_scatter` would otherwise repeat at every
+    tangent evaluation; int32, sum over c of nl^2 entries, -1 for a block outside the pattern
+    (neighbour-neighbour blocks of a pair-only material, never written).
+    """
+    M = centers.shape[0]
+    sptr = np.zeros(M + 1, np.int64)
+    for c in range(M):
+        nl = nptr[c + 1] - nptr[c] + 1
+        sptr[c + 1] = sptr[c] + nl * nl
+    slots = np.empty(sptr[M], np.int32)
+    for c in range(M):
+        s0 = nptr[c]
+        nl = nptr[c + 1] - s0 + 1
+        for m in range(nl):
+            a = centers[c] if m == 0 else nidx[s0 + m - 1]
+            r0 = rowptr[a]
+            for n in range(nl):
+                b = centers[c] if n == 0 else nidx[s0 + n - 1]
+                kk = _find(cols, r0, rowptr[a + 1], b)
+                slots[sptr[c] + m * nl + n] = kk - r0 if kk >= 0 else -1
+    return slots, sptr
+
+
+@njit(cache=True)
+def _scatter_slots(Kloc, nodes, nl, d, full, rowptr, slots, s0, data):
+    """:func:`_scatter` with the block slots of :func:`block_slots` (no searches)."""
+    for m in range(nl):
+        a = nodes[m]
+        r0 = rowptr[a]
+        nb = rowptr[a + 1] - r0
+        for n in range(nl):
+            if not full and m != 0 and n != 0 and m != n:
+                continue
+            kk = slots[s0 + m * nl + n]
+            if kk < 0:
+                raise ValueError("tangent block outside the precomputed sparsity pattern")
+            for al in range(d):
+                base = d * d * r0 + al * d * nb + kk * d
+                for be in range(d):
+                    data[base + be] += Kloc[m * d + al, n * d + be]
+
+
+
+@njit(cache=True)
 def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
              rowptr, cols, data, f, e_node, r2):
     """Energy of one material; add its residual to ``f`` and its tangent to ``data``.
@@ -167,6 +274,17 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
     evaluated once, at the lowest-numbered such vertex, with that multiplicity as weight,
     and its energy is attributed equally to those vertices.
     """
+    empty = np.zeros(0, np.int32)
+    return _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
+                     rowptr, cols, data, f, e_node, r2, empty, np.zeros(1, np.int64))
+
+
+@njit(cache=True)
+def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
+              rowptr, cols, data, f, e_node, r2, bslots, sptr):
+    """:func:`assemble`, scattering the tangent through the block slots ``bslots``
+    (offsets ``sptr`` per central point, see :func:`block_slots`) when they are given
+    (non-empty), by binary search in the pattern otherwise."""
     d = X.shape[1]
     energy = 0.0
     n_pairs = 0
@@ -255,34 +373,14 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         A = abs(Xi[a, 0] * Xi[b, 1] - Xi[a, 1] * Xi[b, 0])
                         if A <= tol2:
                             continue
-                        s = xi[a, 0] * xi[b, 1] - xi[a, 1] * xi[b, 0]
-                        sg = 1.0 if s >= 0.0 else -1.0
-                        aa = abs(s)
-                        e_t = 0.5 * w * (aa - A) ** 2 / A
+                        e_t = _triple_2d(Kloc, f_loc, xi, a, b, w, A)
                         energy += e_t
                         e_loc[0] += e_t / mult
                         if mult > 1.0:
                             e_loc[a + 1] += e_t / mult
                             e_loc[b + 1] += e_t / mult
-                        d1 = w * (aa - A) / A * sg      # dpsi/ds
-                        d2 = w / A                       # d2psi/ds2
-                        g[0, 0] = xi[b, 1]
-                        g[0, 1] = -xi[b, 0]
-                        g[1, 0] = -xi[a, 1]
-                        g[1, 1] = xi[a, 0]
-                        for m in range(2):
-                            for nn in range(2):
-                                for al in range(2):
-                                    for be in range(2):
-                                        H[m, nn, al, be] = d2 * g[m, al] * g[nn, be]
-                        # d2 s / dxi_a dxi_b = [[0, 1], [-1, 0]]
-                        H[0, 1, 0, 1] += d1
-                        H[0, 1, 1, 0] -= d1
-                        H[1, 0, 1, 0] += d1
-                        H[1, 0, 0, 1] -= d1
-                        for m in range(2):
-                            for al in range(2):
-                                g[m, al] *= d1
+                        n_trip += 1
+                        continue
                     else:
                         N0 = np.empty(3)
                         N0[0] = Xi[a, 1] * Xi[b, 2] - Xi[a, 2] * Xi[b, 1]
@@ -456,13 +554,16 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
             for al in range(d):
                 f[nodes[m], al] += f_loc[m * d + al]
         if want_tangent:
-            _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data)
+            if bslots.shape[0]:
+                _scatter_slots(Kloc, nodes, nl, d, full, rowptr, bslots, sptr[c], data)
+            else:
+                _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data)
     return energy, n_pairs, n_trip, n_quad
 
 
 @njit(parallel=True, cache=True)
 def assemble_blocks(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
-                    rowptr, cols, data, f, e_node, r2, color_ptr, block_ptr):
+                    rowptr, cols, data, f, e_node, r2, color_ptr, block_ptr, bslots, sptr):
     """:func:`assemble` over spatial blocks of central points, in parallel and race-free.
 
     Central points are sorted by block (``block_ptr`` delimits each block's slice of
@@ -485,8 +586,9 @@ def assemble_blocks(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
             s = block_ptr[b0 + k]
             e = block_ptr[b0 + k + 1]
             if e > s:
-                r = assemble(X, u, centers[s:e], nptr[s:e + 1], nidx, C1[s:e], C2[s:e], C3[s:e], vol,
-                             want_tangent, rowptr, cols, data, f, e_node, r2)
+                r = _assemble(X, u, centers[s:e], nptr[s:e + 1], nidx, C1[s:e], C2[s:e], C3[s:e], vol,
+                              want_tangent, rowptr, cols, data, f, e_node, r2, bslots,
+                              sptr[s:e + 1] if bslots.shape[0] else sptr)
                 out_e[k] = r[0]
                 out_n[k, 0] = r[1]
                 out_n[k, 1] = r[2]

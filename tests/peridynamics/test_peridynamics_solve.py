@@ -151,9 +151,11 @@ def _table3(h):
         # from the secant predictor, which lowers the first residual
         assert (r[0] == 1.0 if k == 0 else r[0] < 1.0) and r[-1] <= 1e-11
         assert len(r) - 1 <= 7                              # 003 Table 3: 4 iterations per step
-        # quadratic rate in the asymptotic range (above round-off)
+        # quadratic rate in the asymptotic range, for the iterations that end above tol: the
+        # last one solves its linear system only to the forcing floor 0.1 tol / r
+        # (peridynamics.newton.forcing), enough to land below tol, not to show the rate
         for a, b in zip(r[:-1], r[1:]):
-            if a < 1e-3 and b > 1e-13:
+            if a < 1e-3 and b > 1e-11:
                 assert b < 1e3 * a * a
     U = res.fields["displacement"]
     X = res.fields["position"]
