@@ -98,12 +98,18 @@ def measure(h: float, delta_factor: float = 3.01) -> dict:
     rtol = min(1e-3, 1e-2 * ratio)
     before = dict(solver.stats)
 
+    try:                                  # buffers refilled by every evaluation, as in the Newton loop
+        system.evaluate(v, False, out=None)
+        buffers = {"out": np.empty(system.pattern.nnz)}, {"out": np.empty(K.nnz)}
+    except TypeError:                     # trees without them
+        buffers = {}, {}
+
     def iteration():
         direct.factorize(K)                                      # the first tangent's factors
         solver.factored, solver.stale = True, False
         t0, c0 = time.perf_counter(), time.process_time()
-        e = system.evaluate(v, True)
-        K1 = red(e.tangent.data)
+        e = system.evaluate(v, True, **buffers[0])
+        K1 = red(e.tangent.data, **buffers[1])
         solver.solve(K1, -e.residual.ravel()[free], rtol=rtol)
         return time.perf_counter() - t0, time.process_time() - c0
 
@@ -120,6 +126,8 @@ def measure(h: float, delta_factor: float = 3.01) -> dict:
         lin = {k: val for k, val in out.linear.items() if not k.startswith("failed")}
         row[f"newton_{steps}_steps"] = {
             "time_s": wall, "cpu_s": cpu, "iterations": out.iterations,
+            "iteration_cpu_s": [hh.get("iteration_cpu_s") for hh in out.history],
+            "iteration_wall_s": [hh.get("iteration_wall_s") for hh in out.history],
             "time_per_iteration_s": wall / max(out.iterations, 1),
             "cpu_per_iteration_s": cpu / max(out.iterations, 1),
             "residuals": [hh["residuals"] for hh in out.history], "linear": lin,
@@ -153,7 +161,12 @@ def _line(tag: str, r: dict) -> str:
             f"[wall {r['time_newton_iteration_reused_factors_s']:.3f}, "
             f"{r['reused_iteration_krylov_iterations']:.1f} Krylov its] | 3 steps: {n3['iterations']} its, "
             f"{n3['cpu_s']:.2f} s cpu, {n3['cpu_per_iteration_s']:.3f} s/it, "
-            f"{n3['linear']['factorizations']} factorisations")
+            f"{n3['linear']['factorizations']} factorisations"
+            + (f", per-iteration cpu {_fmt(n3['iteration_cpu_s'])}" if n3["iteration_cpu_s"][0] else ""))
+
+
+def _fmt(steps) -> str:
+    return " / ".join(",".join(f"{t:.2f}" for t in s) for s in steps)
 
 
 def main(argv=None) -> dict:

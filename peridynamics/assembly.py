@@ -272,11 +272,22 @@ class CPDSystem:
     def dim(self) -> int:
         return self.X.shape[1]
 
-    def evaluate(self, u: np.ndarray, tangent: bool = True) -> Evaluation:
-        """Energy W(u), residual dW/du and (optionally) tangent d2W/du2."""
+    def evaluate(self, u: np.ndarray, tangent: bool = True, out: np.ndarray | None = None) -> Evaluation:
+        """Energy W(u), residual dW/du and (optionally) tangent d2W/du2.
+
+        ``out`` (pattern.nnz float64) receives the tangent values instead of a new array (a
+        Newton loop refilling one buffer spares the page faults of a fresh 10^7-entry
+        array); the returned tangent then shares it and is overwritten by the next call.
+        """
         u = np.ascontiguousarray(u, dtype=np.float64).reshape(self.X.shape)
         f = np.zeros_like(self.X)
-        data = np.zeros(self.pattern.nnz if tangent else 0)
+        if tangent and out is not None:
+            if out.shape != (self.pattern.nnz,) or out.dtype != np.float64:
+                raise ValueError(f"out must be a float64 array of {self.pattern.nnz} entries")
+            data = out
+            data.fill(0.0)
+        else:
+            data = np.zeros(self.pattern.nnz if tangent else 0)
         energy = 0.0
         e_node = np.zeros(self.n_nodes)
         counts = {"pairs": 0, "triples": 0, "quadruples": 0}

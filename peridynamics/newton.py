@@ -63,9 +63,11 @@ class ReducedMatrix:
             self.source = keep[order]
             self.target = np.cumsum(first) - 1
 
-    def __call__(self, data: np.ndarray) -> sp.csr_matrix:
+    def __call__(self, data: np.ndarray, out: np.ndarray | None = None) -> sp.csr_matrix:
+        """K_ff from the full pattern's ``data``; ``out`` (len(indices)) receives the values
+        of an injective map instead of a new array (shared with the returned matrix)."""
         if self.injective:
-            vals = data[self.gather]
+            vals = np.take(data, self.gather, out=out) if out is not None else data[self.gather]
         else:
             vals = np.bincount(self.target, weights=data[self.source], minlength=len(self.indices))
         return sp.csr_matrix((vals, self.indices, self.indptr), shape=self.shape)
@@ -288,9 +290,14 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     t = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
     failures: list[StepFailure] = []
 
+    # one tangent buffer and one reduced-matrix buffer, refilled by every evaluation: only
+    # the current tangent is ever used (the factors live in the direct solver)
+    tangent_buffer = np.empty(system.pattern.nnz)
+    reduced_buffer = np.empty(len(red.indices)) if red.injective else None
+
     def evaluate(v, tangent):
         t0 = time.perf_counter()
-        ev = system.evaluate(dofs.expand(v), tangent)
+        ev = system.evaluate(dofs.expand(v), tangent, out=tangent_buffer if tangent else None)
         t["assembly" if tangent else "line_search"] += time.perf_counter() - t0
         return ev
 
@@ -303,6 +310,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
         v[fixed] = lam1 * ubar[fixed]
         res_hist = []
         steps = []
+        times = []                                   # (wall, cpu) per iteration
         scale = None
 
         def fail(reason):
@@ -319,6 +327,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             # secant predictor: continue the last converged increment (free DOFs)
             v[free] += (lam1 - lam0) / (lam0 - prev["lam"]) * (u[free] - prev["u"][free])
 
+        clock = (time.perf_counter(), time.process_time())
         try:
             ev = evaluate(v, True)
         except ValueError as e:
@@ -332,7 +341,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                 scale = max(rn, 1e-300)
             res_hist.append(rn / scale)
             if rn <= opts.tol * scale or rn == 0.0:
-                return v, res_hist, ev, steps
+                return v, res_hist, ev, (steps, times)
             if it == opts.max_iter:
                 return fail(f"max_iter = {opts.max_iter} reached")
             if ev.tangent is None:
@@ -340,7 +349,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             eta = forcing(rn / scale, opts.tol)
             t0 = time.perf_counter()
             try:
-                du = lin.solve(red(ev.tangent.data), -R, rtol=eta)
+                du = lin.solve(red(ev.tangent.data, out=reduced_buffer), -R, rtol=eta)
             except RuntimeError as e:
                 return fail(f"singular tangent ({e})")
             t["linear_solve"] += time.perf_counter() - t0
@@ -373,6 +382,9 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                 return fail(why)
             v, ev = accepted
             steps.append(alpha)
+            now = (time.perf_counter(), time.process_time())
+            times.append((now[0] - clock[0], now[1] - clock[1]))
+            clock = now
         return fail(f"max_iter = {opts.max_iter} reached")
 
     targets = list(opts.load_factors) if opts.load_factors else \
@@ -394,8 +406,12 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                     f"[{hist}]); {_advice(f)}")
             targets.insert(0, 0.5 * (lam + target))      # bisect the step
             continue
-        u, hist, ev, alphas = got
-        out.history.append({"load": target, "residuals": hist, "line_search_steps": alphas})
+        u, hist, ev, (alphas, times) = got
+        # per iteration: the linear solve and the evaluation of the next iterate (its
+        # residual and, unless the step is expected to converge, its tangent); the first
+        # iteration of a step also evaluates the tangent at the step's start
+        out.history.append({"load": target, "residuals": hist, "line_search_steps": alphas,
+                            "iteration_wall_s": [w for w, _ in times], "iteration_cpu_s": [c for _, c in times]})
         out.iterations += len(hist) - 1
         out.last = ev
         prev["u"], prev["lam"] = out.u, lam
