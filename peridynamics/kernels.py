@@ -149,6 +149,61 @@ def _triple_2d(Kloc, f_loc, xi, a, b, w, A):
 
 
 @njit(cache=True)
+def _quad_hessian(Kloc, g, d1, d2, xi, a, b, c):
+    """Hessian of psi3 for the 3D quadruple (p, a, b, c), added to the neighbour slots of Kloc.
+
+    With s = (xi_a x xi_b) . xi_c, ``g`` (3, 3) = ds/dxi_m, d1 = dpsi/ds, d2 = d2psi/ds2:
+    block (m, n) = d2 g_m g_n^T + d1 d2s/dxi_m dxi_n, where d2s/dxi_a dxi_b = -[xi_c]x,
+    d2s/dxi_a dxi_c = [xi_b]x, d2s/dxi_b dxi_c = -[xi_a]x ([v]x w = v x w), and block
+    (n, m) is the transpose of block (m, n). Written in place (no 3 x 3 x 3 x 3 temporary),
+    upper blocks only (a < b < c): the lower ones follow once per central point in
+    :func:`_mirror_upper`, which keeps the inner loop over c in the rows of a and b.
+    """
+    s = (3 * (a + 1), 3 * (b + 1), 3 * (c + 1))
+    for m in range(3):
+        rm = s[m]
+        for al in range(3):
+            gm = d2 * g[m, al]
+            for be in range(3):
+                Kloc[rm + al, rm + be] += gm * g[m, be]
+    for pair in range(3):
+        if pair == 0:
+            m, n, t, e = 0, 1, c, -d1
+        elif pair == 1:
+            m, n, t, e = 0, 2, b, d1
+        else:
+            m, n, t, e = 1, 2, a, -d1
+        rm = s[m]
+        rn = s[n]
+        v0 = e * xi[t, 0]
+        v1 = e * xi[t, 1]
+        v2 = e * xi[t, 2]
+        for al in range(3):
+            gm = d2 * g[m, al]
+            for be in range(3):
+                val = gm * g[n, be]
+                Kloc[rm + al, rn + be] += val
+        # e [xi_t]x = [[0, -v2, v1], [v2, 0, -v0], [-v1, v0, 0]] at (m, n)
+        Kloc[rm, rn + 1] -= v2
+        Kloc[rm, rn + 2] += v1
+        Kloc[rm + 1, rn] += v2
+        Kloc[rm + 1, rn + 2] -= v0
+        Kloc[rm + 2, rn] -= v1
+        Kloc[rm + 2, rn + 1] += v0
+
+
+@njit(cache=True)
+def _mirror_upper(Kloc, nl, d):
+    """Neighbour blocks (n, m), n > m, set to the transpose of (m, n): the upper blocks hold
+    every contribution (those of :func:`_quad_hessian` only there), the Hessian is symmetric."""
+    for m in range(1, nl):
+        for n in range(m + 1, nl):
+            for al in range(d):
+                for be in range(d):
+                    Kloc[n * d + be, m * d + al] = Kloc[m * d + al, n * d + be]
+
+
+@njit(cache=True)
 def _close_central(Kloc, f_loc, nl, d):
     """Central rows/columns: f_p = -sum_m f_m, K_mp = -sum_n K_mn, K_pp = sum_mn K_mn.
 
@@ -512,43 +567,15 @@ def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         g[2, 1] = xab1
                         g[2, 2] = xab2
                         if want_tangent:
-                            for m in range(3):
-                                for nn in range(3):
-                                    for al in range(3):
-                                        for be in range(3):
-                                            H[m, nn, al, be] = d2 * g[m, al] * g[nn, be]
-                            # d2 s/dxi_a dxi_b = -[xi_c]x, (a,c) = [xi_b]x, (b,c) = -[xi_a]x
-                            for pair in range(3):
-                                if pair == 0:
-                                    m, nn, t, sgn = 0, 1, cc, -1.0
-                                elif pair == 1:
-                                    m, nn, t, sgn = 0, 2, b, 1.0
-                                else:
-                                    m, nn, t, sgn = 1, 2, a, -1.0
-                                # [v]x = [[0, -v2, v1], [v2, 0, -v0], [-v1, v0, 0]]
-                                e = sgn * d1
-                                H[m, nn, 0, 1] += -e * xi[t, 2]
-                                H[m, nn, 0, 2] += e * xi[t, 1]
-                                H[m, nn, 1, 0] += e * xi[t, 2]
-                                H[m, nn, 1, 2] += -e * xi[t, 0]
-                                H[m, nn, 2, 0] += -e * xi[t, 1]
-                                H[m, nn, 2, 1] += e * xi[t, 0]
-                                H[nn, m, 1, 0] += -e * xi[t, 2]
-                                H[nn, m, 2, 0] += e * xi[t, 1]
-                                H[nn, m, 0, 1] += e * xi[t, 2]
-                                H[nn, m, 2, 1] += -e * xi[t, 0]
-                                H[nn, m, 0, 2] += -e * xi[t, 1]
-                                H[nn, m, 1, 2] += e * xi[t, 0]
-                        for m in range(3):
+                            _quad_hessian(Kloc, g, d1, d2, xi, a, b, cc)
+                        for m, t in ((0, a), (1, b), (2, cc)):
                             for al in range(3):
-                                g[m, al] *= d1
-                        slots[0] = a + 1
-                        slots[1] = b + 1
-                        slots[2] = cc + 1
-                        _add_tuple(Kloc, f_loc, slots, 3, d, g, H)
+                                f_loc[3 * (t + 1) + al] += d1 * g[m, al]
                         n_quad += 1
         for m in range(nl):
             e_node[nodes[m]] += e_loc[m]
+        if want_tangent and d == 3 and C3[c] != 0.0:
+            _mirror_upper(Kloc, nl, d)
         _close_central(Kloc, f_loc, nl, d)
         for m in range(nl):
             for al in range(d):
