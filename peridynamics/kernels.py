@@ -99,6 +99,15 @@ def _add_tuple(Kloc, f_loc, slots, k, d, g, H):
 
 
 @njit(cache=True)
+def _add_outer_2d(Kloc, i, d2, g0, g1):
+    """Diagonal block d2 g g^T of a 2D triple at local rows/columns i, i + 1."""
+    Kloc[i, i] += d2 * g0 * g0
+    Kloc[i, i + 1] += d2 * g0 * g1
+    Kloc[i + 1, i] += d2 * g0 * g1
+    Kloc[i + 1, i + 1] += d2 * g1 * g1
+
+
+@njit(cache=True)
 def _triple_2d(Kloc, f_loc, xi, a, b, w, A):
     """psi2 of the 2D triple (p, a, b) with s = xi_a x xi_b: add its gradient to f_loc and its
     Hessian to Kloc (neighbour slots a + 1, b + 1), return its energy."""
@@ -109,8 +118,8 @@ def _triple_2d(Kloc, f_loc, xi, a, b, w, A):
     s = xa0 * xb1 - xa1 * xb0
     sg = 1.0 if s >= 0.0 else -1.0
     aa = abs(s)
-    d1 = w * (aa - A) / A * sg
-    d2 = w / A
+    d2 = w / A                          # d2psi/ds2 (one division per triple)
+    d1 = d2 * (aa - A) * sg             # dpsi/ds
     # ds/dxi_a = (xb1, -xb0), ds/dxi_b = (-xa1, xa0)
     ia = 2 * (a + 1)
     ib = 2 * (b + 1)
@@ -119,18 +128,10 @@ def _triple_2d(Kloc, f_loc, xi, a, b, w, A):
     f_loc[ib] -= d1 * xa1
     f_loc[ib + 1] += d1 * xa0
     if Kloc.shape[0] != 0:
+        _add_outer_2d(Kloc, ia, d2, xb1, -xb0)
+        _add_outer_2d(Kloc, ib, d2, -xa1, xa0)
         t0 = d2 * xb1
         t1 = d2 * xb0
-        Kloc[ia, ia] += t0 * xb1
-        Kloc[ia, ia + 1] -= t0 * xb0
-        Kloc[ia + 1, ia] -= t0 * xb0
-        Kloc[ia + 1, ia + 1] += t1 * xb0
-        u0 = d2 * xa1
-        u1 = d2 * xa0
-        Kloc[ib, ib] += u0 * xa1
-        Kloc[ib, ib + 1] -= u0 * xa0
-        Kloc[ib + 1, ib] -= u0 * xa0
-        Kloc[ib + 1, ib + 1] += u1 * xa0
         # block (a, b) = d2 g_a g_b^T + d1 [[0, 1], [-1, 0]]
         k00 = -t0 * xa1
         k01 = t0 * xa0 + d1
@@ -144,7 +145,7 @@ def _triple_2d(Kloc, f_loc, xi, a, b, w, A):
         Kloc[ib + 1, ia] += k01
         Kloc[ib, ia + 1] += k10
         Kloc[ib + 1, ia + 1] += k11
-    return 0.5 * w * (aa - A) ** 2 / A
+    return 0.5 * d2 * (aa - A) ** 2
 
 
 
@@ -235,14 +236,17 @@ def _close_central(Kloc, f_loc, nl, d):
 
 
 @njit(cache=True)
-def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data):
+def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, slots, s0, data):
     """Add the dense local tangent of one central point into the block CSR ``data``.
 
     Block (a, b) of node row a sits at block slot kk of ``cols[rowptr[a]:rowptr[a+1]]``;
     dof row a*d+al starts at d*d*rowptr[a] + al*d*nb(a) and holds d columns per block.
-    With ``full`` False (pair-only material) only blocks touching the central point or
-    the diagonal are non-zero and only those are added.
+    kk is read from the precomputed ``slots`` (from ``s0`` on, see :func:`block_slots`)
+    when they are given (non-empty), found by binary search otherwise. With ``full``
+    False (pair-only material) only blocks touching the central point or the diagonal
+    are non-zero and only those are added.
     """
+    mapped = slots.shape[0] > 0
     for m in range(nl):
         a = nodes[m]
         r0 = rowptr[a]
@@ -250,10 +254,13 @@ def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data):
         for n in range(nl):
             if not full and m != 0 and n != 0 and m != n:
                 continue
-            kk = _find(cols, r0, rowptr[a + 1], nodes[n])
+            if mapped:
+                kk = slots[s0 + m * nl + n]
+            else:
+                kk = _find(cols, r0, rowptr[a + 1], nodes[n])
+                kk = kk - r0 if kk >= 0 else -1
             if kk < 0:
                 raise ValueError("tangent block outside the precomputed sparsity pattern")
-            kk -= r0
             for al in range(d):
                 base = d * d * r0 + al * d * nb + kk * d
                 for be in range(d):
@@ -288,26 +295,6 @@ def block_slots(centers, nptr, nidx, rowptr, cols):
                 kk = _find(cols, r0, rowptr[a + 1], b)
                 slots[sptr[c] + m * nl + n] = kk - r0 if kk >= 0 else -1
     return slots, sptr
-
-
-@njit(cache=True)
-def _scatter_slots(Kloc, nodes, nl, d, full, rowptr, slots, s0, data):
-    """:func:`_scatter` with the block slots of :func:`block_slots` (no searches)."""
-    for m in range(nl):
-        a = nodes[m]
-        r0 = rowptr[a]
-        nb = rowptr[a + 1] - r0
-        for n in range(nl):
-            if not full and m != 0 and n != 0 and m != n:
-                continue
-            kk = slots[s0 + m * nl + n]
-            if kk < 0:
-                raise ValueError("tangent block outside the precomputed sparsity pattern")
-            for al in range(d):
-                base = d * d * r0 + al * d * nb + kk * d
-                for be in range(d):
-                    data[base + be] += Kloc[m * d + al, n * d + be]
-
 
 
 @njit(cache=True)
@@ -412,15 +399,16 @@ def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
         if C2[c] != 0.0:
             full = True
             for a in range(n):
+                qa = nodes[a + 1]
+                wa = (2.0 / 3.0) * Vp * vol[qa] * C2[c]
                 for b in range(a + 1, n):
-                    qa = nodes[a + 1]
                     qb = nodes[b + 1]
                     mult = 1.0
                     if D2[a, b] <= r2:          # all three vertices are central points of it
                         if qa < p or qb < p:
                             continue
                         mult = 3.0
-                    w = mult * (2.0 / 3.0) * Vp * vol[qa] * vol[qb] * C2[c]
+                    w = mult * wa * vol[qb]
                     tol2 = DEGENERATE_TOL * (Ln[a] * Ln[a] + Ln[b] * Ln[b] + D2[a, b])
                     slots[0] = a + 1
                     slots[1] = b + 1
@@ -430,10 +418,11 @@ def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                             continue
                         e_t = _triple_2d(Kloc, f_loc, xi, a, b, w, A)
                         energy += e_t
-                        e_loc[0] += e_t / mult
+                        share = e_t / mult
+                        e_loc[0] += share
                         if mult > 1.0:
-                            e_loc[a + 1] += e_t / mult
-                            e_loc[b + 1] += e_t / mult
+                            e_loc[a + 1] += share
+                            e_loc[b + 1] += share
                         n_trip += 1
                         continue
                     else:
@@ -545,17 +534,18 @@ def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         s = xab0 * xi[cc, 0] + xab1 * xi[cc, 1] + xab2 * xi[cc, 2]
                         sg = 1.0 if s >= 0.0 else -1.0
                         vv = abs(s)
-                        e_t = 0.5 * w * (vv - V0) ** 2 / V0
-                        energy += e_t
-                        e_loc[0] += e_t / mult
-                        if a_c:
-                            e_loc[a + 1] += e_t / mult
-                        if b_c:
-                            e_loc[b + 1] += e_t / mult
-                        if c_c:
-                            e_loc[cc + 1] += e_t / mult
-                        d1 = w * (vv - V0) / V0 * sg     # dpsi/ds
                         d2 = w / V0
+                        e_t = 0.5 * d2 * (vv - V0) ** 2
+                        energy += e_t
+                        share = e_t / mult
+                        e_loc[0] += share
+                        if a_c:
+                            e_loc[a + 1] += share
+                        if b_c:
+                            e_loc[b + 1] += share
+                        if c_c:
+                            e_loc[cc + 1] += share
+                        d1 = d2 * (vv - V0) * sg         # dpsi/ds
                         # ds/dxi_a = xi_b x xi_c, ds/dxi_b = xi_c x xi_a, ds/dxi_c = xi_a x xi_b
                         g[0, 0] = xi[b, 1] * xi[cc, 2] - xi[b, 2] * xi[cc, 1]
                         g[0, 1] = xi[b, 2] * xi[cc, 0] - xi[b, 0] * xi[cc, 2]
@@ -581,10 +571,7 @@ def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
             for al in range(d):
                 f[nodes[m], al] += f_loc[m * d + al]
         if want_tangent:
-            if bslots.shape[0]:
-                _scatter_slots(Kloc, nodes, nl, d, full, rowptr, bslots, sptr[c], data)
-            else:
-                _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data)
+            _scatter(Kloc, nodes, nl, d, full, rowptr, cols, bslots, sptr[c] if bslots.shape[0] else 0, data)
     return energy, n_pairs, n_trip, n_quad
 
 

@@ -9,6 +9,13 @@ extrapolation of the last converged increment (for a linear problem its first re
 is already round-off small, hence the normalisation by the un-extrapolated state). A backtracking line search on the energy / residual guards against
 diverging iterations; a step that still fails is bisected (``max_cuts`` times) before a
 :class:`interfaces.errors.SolverError` is raised saying what to change.
+
+The Newton step is inexact: K(u_k) du = -R_k is solved to the relative residual of
+:func:`forcing` (which keeps the quadratic rate) by conjugate gradients on the current
+exact tangent, preconditioned by the factors of an earlier tangent
+(:class:`TangentSolver`): one factorisation serves all iterations and load steps while
+the tangent stays close to it, so an iteration costs one tangent assembly and a few
+triangular solves.
 """
 from __future__ import annotations
 
