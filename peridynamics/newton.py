@@ -108,10 +108,10 @@ def pcg(K, r: np.ndarray, precondition, rtol: float, maxiter: int):
     """Preconditioned conjugate gradients for the symmetric positive definite K x = r.
 
     Starts from x = M^-1 r (M^-1 = ``precondition``, the factors of an earlier tangent)
-    and stops when the true residual ||r - K x|| (updated recursively, checked directly at
-    the end, where round-off drift of up to 2x is allowed) is below ``rtol`` ||r||. Returns (x, iterations), or (None, iterations) when
-    it does not converge within ``maxiter`` or meets a direction of non-positive
-    curvature (K not positive definite: the caller refactorises).
+    and stops when the residual ||r - K x|| (updated recursively; checked directly at the
+    end, allowing 2x round-off drift) is below ``rtol`` ||r||. Returns (x, iterations), or
+    (None, iterations) when it does not converge within ``maxiter`` or meets a direction
+    of non-positive curvature (K not positive definite: the caller refactorises).
     """
     rn0 = float(np.linalg.norm(r))
     if rn0 == 0.0:
