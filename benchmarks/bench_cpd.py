@@ -2,11 +2,16 @@
 
 One Newton iteration split into its phases: tangent assembly (numba kernels into the
 fixed pattern), reduction to the free DOFs, numeric factorisation (symbolic analysis
-reused: the second factorisation of the same pattern is timed), solve; plus the residual
-evaluation and the next iteration with the factors reused as a GMRES preconditioner.
-Three sizes (h = 0.02, 0.0141, 0.01). With ``--old PATH`` (a checkout of the previous
-commit, e.g. ``git worktree add --detach /tmp/cpd_old main``) the same measurement runs
-on that tree in a subprocess in the same run, and the ratio old / new is reported.
+reused: a second factorisation of the same pattern is timed), one triangular solve, one
+product with the tangent; then the iteration as the Newton loop runs it after the first
+one: the next tangent assembled and solved to the inexact-Newton forcing term with the
+factors of the first tangent reused as the Krylov preconditioner; and a whole Newton
+solve (1 and 3 load steps: iterations, residual history, factorisations, Krylov
+iterations, time per iteration). Three sizes (h = 0.02, 0.0141, 0.01). Times are the
+best of a few repetitions, wall clock and process CPU time (the machine is shared: CPU
+time is what one core spends). With ``--old PATH`` (a checkout of the previous commit,
+e.g. ``git worktree add --detach /tmp/cpd_old main``) the same measurement runs on that
+tree in a subprocess in the same run, and the ratios old / new are reported.
 
     NUMBA_NUM_THREADS=1 MKL_NUM_THREADS=1 python benchmarks/bench_cpd.py [--old /tmp/cpd_old] [--out file.json]
 """
@@ -27,78 +32,113 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _best(fn, repeat=3):
-    ts = []
+    """(best wall time, best CPU time, last result) of ``repeat`` calls."""
+    wall, cpu = [], []
     out = None
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         out = fn()
-        ts.append(time.perf_counter() - t0)
-    return min(ts), out
+        wall.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    return min(wall), min(cpu), out
+
+
+def _timed(row: dict, name: str, fn, repeat=3):
+    wall, cpu, out = _best(fn, repeat)
+    row[f"time_{name}_s"] = wall
+    row[f"cpu_{name}_s"] = cpu
+    return out
 
 
 def measure(h: float, delta_factor: float = 3.01) -> dict:
-    """Phase times of one Newton iteration of the bimaterial square at spacing h."""
+    """Phase times of Newton iterations on the bimaterial square at spacing h (runs on the
+    code of whichever tree is first on sys.path: only APIs of both trees are used)."""
     import numpy as np
 
     from cases import library
     from peridynamics.discretization import discretize
-    from peridynamics.newton import ReducedMatrix, TangentSolver
+    from peridynamics.newton import NewtonOptions, ReducedMatrix, TangentSolver, newton_solve
     from peridynamics.solver import boundary_vectors, build_system
 
     case = library.bimaterial_square(parameter_set=3, load_case=1, interface="vertical")
     delta = delta_factor * h
     disc = discretize(case, h, delta, delta, grid="cell")
-    t0 = time.perf_counter()
-    system, _ = build_system(case, disc, "continuum", None)
-    t_setup = time.perf_counter() - t0
+    row: dict = {}
+    system, _ = _timed(row, "neighbours_pattern", lambda: build_system(case, disc, "continuum", None), 1)
     fixed, u_bar, f_ext = boundary_vectors(disc)
     n = system.n_nodes * system.dim
     free = np.setdiff1d(np.arange(n), fixed)
-    t0 = time.perf_counter()
-    red = ReducedMatrix(system, free)
-    t_red_build = time.perf_counter() - t0
+    red = _timed(row, "reduced_map_build", lambda: ReducedMatrix(system, free), 1)
     u = u_bar.copy()
     system.evaluate(u, True)                                     # JIT warm-up (cached kernels)
-    t_res, _ = _best(lambda: system.evaluate(u, False))
-    t_tan, ev = _best(lambda: system.evaluate(u, True))
-    t_red, K = _best(lambda: red(ev.tangent.data))
+    _timed(row, "residual", lambda: system.evaluate(u, False))
+    ev = _timed(row, "tangent_assembly", lambda: system.evaluate(u, True))
+    K = _timed(row, "reduce", lambda: red(ev.tangent.data))
     R = ev.residual.ravel()[free]
     solver = TangentSolver(reuse=True)
     t0 = time.perf_counter()
-    du = solver.solve(K, -R)                                     # first: analysis + factorisation
-    t_first = time.perf_counter() - t0
-    direct = getattr(solver, "direct", None)
-    if direct is not None:                                       # refactorise the same pattern
-        t_fact, _ = _best(lambda: direct.factorize(K), repeat=2)
-        t_solve, _ = _best(lambda: direct.solve(-R))
-        name = direct.name
-    else:                                                        # previous code: SuperLU every time
-        t_fact, lu = _best(lambda: solver._factor(K) or solver.lu, repeat=2)
-        t_solve, _ = _best(lambda: solver.lu.solve(-R))
-        name = "superlu"
+    du = solver.solve(K, -R, rtol=1e-3)                          # first: analysis + factorisation
+    row["time_first_factorize_and_solve_s"] = time.perf_counter() - t0
+    direct = solver.direct
+    _timed(row, "factorization", lambda: direct.factorize(K), 2)
+    _timed(row, "triangular_solve", lambda: direct.solve(-R), 5)
+    _timed(row, "matvec", lambda: K @ R, 5)
+    row["time_newton_iteration_fresh_factorization_s"] = (
+        row["time_tangent_assembly_s"] + row["time_reduce_s"] + row["time_factorization_s"]
+        + row["time_triangular_solve_s"])
+    row["cpu_newton_iteration_fresh_factorization_s"] = (
+        row["cpu_tangent_assembly_s"] + row["cpu_reduce_s"] + row["cpu_factorization_s"]
+        + row["cpu_triangular_solve_s"])
+    # the second Newton iteration as the loop runs it: assemble at the new iterate, solve
+    # to the forcing term with the factors of the first tangent as preconditioner
     v = u.copy()
     v[free] += du
-    t0 = time.perf_counter()
-    ev2 = system.evaluate(v, True)
-    K2 = red(ev2.tangent.data)
-    R2 = ev2.residual.ravel()[free]
-    ratio = float(np.linalg.norm(R2) / np.linalg.norm(R))
-    solver.solve(K2, -R2, rtol=min(1e-3, 1e-2 * ratio))
-    t_reuse = time.perf_counter() - t0
+    ev1 = system.evaluate(v, False)
+    ratio = float(np.linalg.norm(ev1.residual.ravel()[free]) / np.linalg.norm(R))
+    rtol = min(1e-3, 1e-2 * ratio)
+    before = dict(solver.stats)
+
+    try:                                  # buffers refilled by every evaluation, as in the Newton loop
+        system.evaluate(v, False, out=None)
+        buffers = {"out": np.empty(system.pattern.nnz)}, {"out": np.empty(K.nnz)}
+    except TypeError:                     # trees without them
+        buffers = {}, {}
+
+    def iteration():
+        direct.factorize(K)                                      # the first tangent's factors
+        solver.factored, solver.stale = True, False
+        t0, c0 = time.perf_counter(), time.process_time()
+        e = system.evaluate(v, True, **buffers[0])
+        K1 = red(e.tangent.data, **buffers[1])
+        solver.solve(K1, -e.residual.ravel()[free], rtol=rtol)
+        return time.perf_counter() - t0, time.process_time() - c0
+
+    runs = [iteration() for _ in range(3)]
+    row["time_newton_iteration_reused_factors_s"] = min(r[0] for r in runs)
+    row["cpu_newton_iteration_reused_factors_s"] = min(r[1] for r in runs)
+    row["reused_iteration_krylov_iterations"] = (solver.stats["krylov_iterations"] - before["krylov_iterations"]) / 3
+    row["reused_iteration_factorizations"] = (solver.stats["factorizations"] - before["factorizations"]) / 3
+    row["normalised_residual_after_first_iteration"] = ratio
+    for steps in (1, 3):
+        t0, c0 = time.perf_counter(), time.process_time()
+        out = newton_solve(system, fixed, u_bar, f_ext, NewtonOptions(load_steps=steps))
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        lin = {k: val for k, val in out.linear.items() if not k.startswith("failed")}
+        row[f"newton_{steps}_steps"] = {
+            "time_s": wall, "cpu_s": cpu, "iterations": out.iterations,
+            "iteration_cpu_s": [hh.get("iteration_cpu_s") for hh in out.history],
+            "iteration_wall_s": [hh.get("iteration_wall_s") for hh in out.history],
+            "time_per_iteration_s": wall / max(out.iterations, 1),
+            "cpu_per_iteration_s": cpu / max(out.iterations, 1),
+            "residuals": [hh["residuals"] for hh in out.history], "linear": lin,
+            "phases_s": {k: float(val) for k, val in out.timings.items()}}
     tuples = sum(ev.tuples.values())
-    return {
+    row.update({
         "h": h, "delta": delta, "grid_points": int(system.n_nodes), "free_dofs": int(len(free)),
-        "tangent_nnz": int(system.pattern.nnz), "reduced_nnz": int(K.nnz), "solver": name,
-        "time_neighbours_pattern_s": t_setup, "time_reduced_map_build_s": t_red_build,
-        "time_residual_s": t_res, "time_tangent_assembly_s": t_tan, "time_reduce_s": t_red,
-        "time_first_factorize_and_solve_s": t_first, "time_factorization_s": t_fact,
-        "time_solve_s": t_solve,
-        "time_newton_iteration_fresh_factorization_s": t_tan + t_red + t_fact + t_solve,
-        "time_newton_iteration_reused_factors_s": t_reuse,
-        "normalised_residual_after_first_iteration": ratio,
-        "tuples_per_second_tangent": tuples / t_tan,
-        "peak_rss_MB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
-    }
+        "tangent_nnz": int(system.pattern.nnz), "reduced_nnz": int(K.nnz), "solver": direct.name,
+        "tuples_per_cpu_second_tangent": tuples / row["cpu_tangent_assembly_s"],
+        "peak_rss_MB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0})
+    return row
 
 
 def _run_in(tree: Path, h: float) -> dict:
@@ -110,6 +150,25 @@ def _run_in(tree: Path, h: float) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+def _line(tag: str, r: dict) -> str:
+    n3 = r["newton_3_steps"]
+    return (f"{tag} h={r['h']:g} points={r['grid_points']} dofs={r['free_dofs']} nnz={r['reduced_nnz']} "
+            f"solver={r['solver']} | cpu: assembly={r['cpu_tangent_assembly_s']:.3f} reduce={r['cpu_reduce_s']:.3f} "
+            f"factor={r['cpu_factorization_s']:.3f} tri-solve={r['cpu_triangular_solve_s']:.4f} "
+            f"matvec={r['cpu_matvec_s']:.4f} residual={r['cpu_residual_s']:.3f} "
+            f"iteration(fresh)={r['cpu_newton_iteration_fresh_factorization_s']:.3f} "
+            f"iteration(reused)={r['cpu_newton_iteration_reused_factors_s']:.3f} "
+            f"[wall {r['time_newton_iteration_reused_factors_s']:.3f}, "
+            f"{r['reused_iteration_krylov_iterations']:.1f} Krylov its] | 3 steps: {n3['iterations']} its, "
+            f"{n3['cpu_s']:.2f} s cpu, {n3['cpu_per_iteration_s']:.3f} s/it, "
+            f"{n3['linear']['factorizations']} factorisations"
+            + (f", per-iteration cpu {_fmt(n3['iteration_cpu_s'])}" if n3["iteration_cpu_s"][0] else ""))
+
+
+def _fmt(steps) -> str:
+    return " / ".join(",".join(f"{t:.2f}" for t in s) for s in steps)
+
+
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--old", default=None, help="checkout of the previous commit to measure side by side")
@@ -118,28 +177,27 @@ def main(argv=None) -> dict:
     args = ap.parse_args(argv)
     rows = []
     for h in (float(v) for v in args.sizes.split(",")):
-        new = _run_in(ROOT, h)
-        row = {"new": new}
+        row = {"new": _run_in(ROOT, h)}
         if args.old:
             old = _run_in(Path(args.old).resolve(), h)
             row["old"] = old
-            row["ratio_old_over_new"] = {k: old[k] / new[k] for k in new
-                                         if k.startswith("time_") and k in old and new[k] > 0}
+            row["ratio_old_over_new"] = {k: old[k] / row["new"][k] for k in row["new"]
+                                         if k.startswith(("time_", "cpu_")) and k in old and row["new"][k] > 0}
+            for steps in (1, 3):
+                key = f"newton_{steps}_steps"
+                row["ratio_old_over_new"][f"{key}_cpu"] = old[key]["cpu_s"] / row["new"][key]["cpu_s"]
         rows.append(row)
         for tag in ("new", "old"):
             if tag in row:
-                r = row[tag]
-                print(f"{tag} h={h:g} points={r['grid_points']} dofs={r['free_dofs']} nnz={r['reduced_nnz']} "
-                      f"solver={r['solver']} assembly={r['time_tangent_assembly_s']:.3f} reduce={r['time_reduce_s']:.3f} "
-                      f"factor={r['time_factorization_s']:.3f} solve={r['time_solve_s']:.3f} "
-                      f"iteration(fresh)={r['time_newton_iteration_fresh_factorization_s']:.3f} "
-                      f"iteration(reused)={r['time_newton_iteration_reused_factors_s']:.3f} "
-                      f"residual={r['time_residual_s']:.3f}", flush=True)
+                print(_line(tag, row[tag]), flush=True)
         if "ratio_old_over_new" in row:
             rr = row["ratio_old_over_new"]
-            print(f"   old/new: fresh iteration {rr['time_newton_iteration_fresh_factorization_s']:.2f}x, "
-                  f"reused {rr['time_newton_iteration_reused_factors_s']:.2f}x, "
-                  f"factorisation {rr['time_factorization_s']:.2f}x", flush=True)
+            print(f"   old/new (cpu): assembly {rr['cpu_tangent_assembly_s']:.2f}x, "
+                  f"fresh iteration {rr['cpu_newton_iteration_fresh_factorization_s']:.2f}x, "
+                  f"reused iteration {rr['cpu_newton_iteration_reused_factors_s']:.2f}x, "
+                  f"triangular solve {rr['cpu_triangular_solve_s']:.2f}x, "
+                  f"Newton solve 1 step {rr['newton_1_steps_cpu']:.2f}x, 3 steps {rr['newton_3_steps_cpu']:.2f}x",
+                  flush=True)
     out = {"case": "bimaterial_square set 3, vertical interface, load case I, delta = 3.01 h, cell grid",
            "threads": {k: os.environ.get(k) for k in ("NUMBA_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")},
            "python": platform.python_version(), "machine": platform.machine(), "sizes": rows}

@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from .kernels import assemble_blocks, horizon_radius2, within
+from .kernels import assemble_blocks, block_slots, horizon_radius2, within
 
 
 @dataclass
@@ -224,6 +224,20 @@ def dof_position(pattern: Pattern, r: np.ndarray, c: np.ndarray, al: int, be: in
     return pos
 
 
+#: memory (bytes) the precomputed tangent block slots of :func:`kernels.block_slots` may take;
+#: above it the kernels find each block by binary search in the pattern (same result, slower)
+SLOT_BUDGET = 512 * 2 ** 20
+
+
+def tangent_slots(blocks: list[MaterialBlock], pattern: Pattern, budget: int = SLOT_BUDGET) -> list:
+    """Per material block the (slots, sptr) of :func:`kernels.block_slots`, or empty arrays for
+    every block when all of them together would take more than ``budget`` bytes."""
+    need = sum(4 * int(np.sum((np.diff(b.nptr) + 1) ** 2)) for b in blocks)
+    if need > budget:
+        return [(np.zeros(0, np.int32), np.zeros(1, np.int64)) for _ in blocks]
+    return [block_slots(b.centers, b.nptr, b.nidx, pattern.rowptr, pattern.cols) for b in blocks]
+
+
 class CPDSystem:
     """Total energy, residual and tangent of all materials on shared nodes.
 
@@ -243,6 +257,7 @@ class CPDSystem:
         has_springs = springs is not None and springs.count > 0
         extra = (springs.node_a, springs.node_b) if has_springs else None
         self.pattern = build_pattern(self.X, blocks, delta, extra)
+        self._slots = tangent_slots(blocks, self.pattern)
         self.springs = SpringBlock(springs, self.pattern) if has_springs else None
         self.dofs = DofMap(self.X.size, ties)
         self._cpar = [
@@ -257,18 +272,31 @@ class CPDSystem:
     def dim(self) -> int:
         return self.X.shape[1]
 
-    def evaluate(self, u: np.ndarray, tangent: bool = True) -> Evaluation:
-        """Energy W(u), residual dW/du and (optionally) tangent d2W/du2."""
+    def evaluate(self, u: np.ndarray, tangent: bool = True, out: np.ndarray | None = None) -> Evaluation:
+        """Energy W(u), residual dW/du and (optionally) tangent d2W/du2.
+
+        ``out`` (pattern.nnz float64) receives the tangent values instead of a new array (a
+        Newton loop refilling one buffer spares the page faults of a fresh 10^7-entry
+        array); the returned tangent then shares it and is overwritten by the next call.
+        """
         u = np.ascontiguousarray(u, dtype=np.float64).reshape(self.X.shape)
         f = np.zeros_like(self.X)
-        data = np.zeros(self.pattern.nnz if tangent else 0)
+        if tangent and out is not None:
+            if out.shape != (self.pattern.nnz,) or out.dtype != np.float64:
+                raise ValueError(f"out must be a float64 array of {self.pattern.nnz} entries")
+            data = out
+            data.fill(0.0)
+        else:
+            data = np.zeros(self.pattern.nnz if tangent else 0)
         energy = 0.0
         e_node = np.zeros(self.n_nodes)
         counts = {"pairs": 0, "triples": 0, "quadruples": 0}
-        for blk, (c1, c2, c3), (cptr, bptr) in zip(self.blocks, self._cpar, self._colours):
+        for blk, (c1, c2, c3), (cptr, bptr), (slots, sptr) in zip(self.blocks, self._cpar, self._colours,
+                                                                  self._slots):
             e, n1, n2, n3 = assemble_blocks(self.X, u, blk.centers, blk.nptr, blk.nidx, c1, c2, c3,
                                             self.vol, tangent, self.pattern.rowptr, self.pattern.cols,
-                                            data, f, e_node, horizon_radius2(self.delta), cptr, bptr)
+                                            data, f, e_node, horizon_radius2(self.delta), cptr, bptr,
+                                            slots, sptr)
             energy += e
             counts["pairs"] += n1
             counts["triples"] += n2

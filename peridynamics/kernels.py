@@ -99,8 +99,118 @@ def _add_tuple(Kloc, f_loc, slots, k, d, g, H):
 
 
 @njit(cache=True)
+def _add_outer_2d(Kloc, i, d2, g0, g1):
+    """Diagonal block d2 g g^T of a 2D triple at local rows/columns i, i + 1."""
+    Kloc[i, i] += d2 * g0 * g0
+    Kloc[i, i + 1] += d2 * g0 * g1
+    Kloc[i + 1, i] += d2 * g0 * g1
+    Kloc[i + 1, i + 1] += d2 * g1 * g1
+
+
+@njit(cache=True)
+def _triple_2d(Kloc, f_loc, xi, a, b, w, A):
+    """psi2 of the 2D triple (p, a, b) with s = xi_a x xi_b: add its gradient to f_loc and its
+    Hessian to Kloc (neighbour slots a + 1, b + 1), return its energy."""
+    xa0 = xi[a, 0]
+    xa1 = xi[a, 1]
+    xb0 = xi[b, 0]
+    xb1 = xi[b, 1]
+    s = xa0 * xb1 - xa1 * xb0
+    sg = 1.0 if s >= 0.0 else -1.0
+    aa = abs(s)
+    d2 = w / A                          # d2psi/ds2 (one division per triple)
+    d1 = d2 * (aa - A) * sg             # dpsi/ds
+    # ds/dxi_a = (xb1, -xb0), ds/dxi_b = (-xa1, xa0)
+    ia = 2 * (a + 1)
+    ib = 2 * (b + 1)
+    f_loc[ia] += d1 * xb1
+    f_loc[ia + 1] -= d1 * xb0
+    f_loc[ib] -= d1 * xa1
+    f_loc[ib + 1] += d1 * xa0
+    if Kloc.shape[0] != 0:
+        _add_outer_2d(Kloc, ia, d2, xb1, -xb0)
+        _add_outer_2d(Kloc, ib, d2, -xa1, xa0)
+        t0 = d2 * xb1
+        t1 = d2 * xb0
+        # block (a, b) = d2 g_a g_b^T + d1 [[0, 1], [-1, 0]]
+        k00 = -t0 * xa1
+        k01 = t0 * xa0 + d1
+        k10 = t1 * xa1 - d1
+        k11 = -t1 * xa0
+        Kloc[ia, ib] += k00
+        Kloc[ia, ib + 1] += k01
+        Kloc[ia + 1, ib] += k10
+        Kloc[ia + 1, ib + 1] += k11
+        Kloc[ib, ia] += k00
+        Kloc[ib + 1, ia] += k01
+        Kloc[ib, ia + 1] += k10
+        Kloc[ib + 1, ia + 1] += k11
+    return 0.5 * d2 * (aa - A) ** 2
+
+
+
+@njit(cache=True)
+def _quad_hessian(Kloc, g, d1, d2, xi, a, b, c):
+    """Hessian of psi3 for the 3D quadruple (p, a, b, c), added to the neighbour slots of Kloc.
+
+    With s = (xi_a x xi_b) . xi_c, ``g`` (3, 3) = ds/dxi_m, d1 = dpsi/ds, d2 = d2psi/ds2:
+    block (m, n) = d2 g_m g_n^T + d1 d2s/dxi_m dxi_n, where d2s/dxi_a dxi_b = -[xi_c]x,
+    d2s/dxi_a dxi_c = [xi_b]x, d2s/dxi_b dxi_c = -[xi_a]x ([v]x w = v x w), and block
+    (n, m) is the transpose of block (m, n). Written in place (no 3 x 3 x 3 x 3 temporary),
+    upper blocks only (a < b < c): the lower ones follow once per central point in
+    :func:`_mirror_upper`, which keeps the inner loop over c in the rows of a and b.
+    """
+    s = (3 * (a + 1), 3 * (b + 1), 3 * (c + 1))
+    for m in range(3):
+        rm = s[m]
+        for al in range(3):
+            gm = d2 * g[m, al]
+            for be in range(3):
+                Kloc[rm + al, rm + be] += gm * g[m, be]
+    for pair in range(3):
+        if pair == 0:
+            m, n, t, e = 0, 1, c, -d1
+        elif pair == 1:
+            m, n, t, e = 0, 2, b, d1
+        else:
+            m, n, t, e = 1, 2, a, -d1
+        rm = s[m]
+        rn = s[n]
+        v0 = e * xi[t, 0]
+        v1 = e * xi[t, 1]
+        v2 = e * xi[t, 2]
+        for al in range(3):
+            gm = d2 * g[m, al]
+            for be in range(3):
+                val = gm * g[n, be]
+                Kloc[rm + al, rn + be] += val
+        # e [xi_t]x = [[0, -v2, v1], [v2, 0, -v0], [-v1, v0, 0]] at (m, n)
+        Kloc[rm, rn + 1] -= v2
+        Kloc[rm, rn + 2] += v1
+        Kloc[rm + 1, rn] += v2
+        Kloc[rm + 1, rn + 2] -= v0
+        Kloc[rm + 2, rn] -= v1
+        Kloc[rm + 2, rn + 1] += v0
+
+
+@njit(cache=True)
+def _mirror_upper(Kloc, nl, d):
+    """Neighbour blocks (n, m), n > m, set to the transpose of (m, n): the upper blocks hold
+    every contribution (those of :func:`_quad_hessian` only there), the Hessian is symmetric."""
+    for m in range(1, nl):
+        for n in range(m + 1, nl):
+            for al in range(d):
+                for be in range(d):
+                    Kloc[n * d + be, m * d + al] = Kloc[m * d + al, n * d + be]
+
+
+@njit(cache=True)
 def _close_central(Kloc, f_loc, nl, d):
-    """Central rows/columns: f_p = -sum_m f_m, K_mp = -sum_n K_mn, K_pp = sum_mn K_mn."""
+    """Central rows/columns: f_p = -sum_m f_m, K_mp = -sum_n K_mn, K_pp = sum_mn K_mn.
+
+    The neighbour part of Kloc is symmetric, so K_pm = K_mp^T and the column sums are
+    the row sums: one contiguous pass over the neighbour rows.
+    """
     for al in range(d):
         s = 0.0
         for m in range(1, nl):
@@ -108,29 +218,35 @@ def _close_central(Kloc, f_loc, nl, d):
         f_loc[al] = -s
     if Kloc.shape[0] == 0:
         return
+    for al in range(d):
+        for be in range(d):
+            Kloc[al, be] = 0.0
     for r in range(d, nl * d):
+        row = Kloc[r]
         for be in range(d):
             s = 0.0
             for n in range(1, nl):
-                s += Kloc[r, n * d + be]
-            Kloc[r, be] = -s
-    for al in range(d):
-        for c in range(nl * d):
-            s = 0.0
-            for m in range(1, nl):
-                s += Kloc[m * d + al, c]
-            Kloc[al, c] = -s
+                s += row[n * d + be]
+            row[be] = -s
+            Kloc[be, r] = -s
+    for m in range(1, nl):
+        for al in range(d):
+            for be in range(d):
+                Kloc[al, be] -= Kloc[m * d + al, be]
 
 
 @njit(cache=True)
-def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data):
+def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, slots, s0, data):
     """Add the dense local tangent of one central point into the block CSR ``data``.
 
     Block (a, b) of node row a sits at block slot kk of ``cols[rowptr[a]:rowptr[a+1]]``;
     dof row a*d+al starts at d*d*rowptr[a] + al*d*nb(a) and holds d columns per block.
-    With ``full`` False (pair-only material) only blocks touching the central point or
-    the diagonal are non-zero and only those are added.
+    kk is read from the precomputed ``slots`` (from ``s0`` on, see :func:`block_slots`)
+    when they are given (non-empty), found by binary search otherwise. With ``full``
+    False (pair-only material) only blocks touching the central point or the diagonal
+    are non-zero and only those are added.
     """
+    mapped = slots.shape[0] > 0
     for m in range(nl):
         a = nodes[m]
         r0 = rowptr[a]
@@ -138,14 +254,47 @@ def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data):
         for n in range(nl):
             if not full and m != 0 and n != 0 and m != n:
                 continue
-            kk = _find(cols, r0, rowptr[a + 1], nodes[n])
+            if mapped:
+                kk = slots[s0 + m * nl + n]
+            else:
+                kk = _find(cols, r0, rowptr[a + 1], nodes[n])
+                kk = kk - r0 if kk >= 0 else -1
             if kk < 0:
                 raise ValueError("tangent block outside the precomputed sparsity pattern")
-            kk -= r0
             for al in range(d):
                 base = d * d * r0 + al * d * nb + kk * d
                 for be in range(d):
                     data[base + be] += Kloc[m * d + al, n * d + be]
+
+
+@njit(cache=True)
+def block_slots(centers, nptr, nidx, rowptr, cols):
+    """Where each block of each central point's local tangent goes in the fixed pattern.
+
+    For central point c with local nodes (p, then its neighbours nidx[nptr[c]:nptr[c+1]]),
+    ``slots[sptr[c] + m * nl + n]`` is the block slot of node nodes[n] in the node row of
+    nodes[m] (kk - rowptr[nodes[m]] in the notation of :func:`_scatter`). Built once per
+    pattern with the binary searches that :func:`_scatter` would otherwise repeat at every
+    tangent evaluation; int32, sum over c of nl^2 entries, -1 for a block outside the pattern
+    (neighbour-neighbour blocks of a pair-only material, never written).
+    """
+    M = centers.shape[0]
+    sptr = np.zeros(M + 1, np.int64)
+    for c in range(M):
+        nl = nptr[c + 1] - nptr[c] + 1
+        sptr[c + 1] = sptr[c] + nl * nl
+    slots = np.empty(sptr[M], np.int32)
+    for c in range(M):
+        s0 = nptr[c]
+        nl = nptr[c + 1] - s0 + 1
+        for m in range(nl):
+            a = centers[c] if m == 0 else nidx[s0 + m - 1]
+            r0 = rowptr[a]
+            for n in range(nl):
+                b = centers[c] if n == 0 else nidx[s0 + n - 1]
+                kk = _find(cols, r0, rowptr[a + 1], b)
+                slots[sptr[c] + m * nl + n] = kk - r0 if kk >= 0 else -1
+    return slots, sptr
 
 
 @njit(cache=True)
@@ -167,6 +316,17 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
     evaluated once, at the lowest-numbered such vertex, with that multiplicity as weight,
     and its energy is attributed equally to those vertices.
     """
+    empty = np.zeros(0, np.int32)
+    return _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
+                     rowptr, cols, data, f, e_node, r2, empty, np.zeros(1, np.int64))
+
+
+@njit(cache=True)
+def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
+              rowptr, cols, data, f, e_node, r2, bslots, sptr):
+    """:func:`assemble`, scattering the tangent through the block slots ``bslots``
+    (offsets ``sptr`` per central point, see :func:`block_slots`) when they are given
+    (non-empty), by binary search in the pattern otherwise."""
     d = X.shape[1]
     energy = 0.0
     n_pairs = 0
@@ -239,15 +399,16 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
         if C2[c] != 0.0:
             full = True
             for a in range(n):
+                qa = nodes[a + 1]
+                wa = (2.0 / 3.0) * Vp * vol[qa] * C2[c]
                 for b in range(a + 1, n):
-                    qa = nodes[a + 1]
                     qb = nodes[b + 1]
                     mult = 1.0
                     if D2[a, b] <= r2:          # all three vertices are central points of it
                         if qa < p or qb < p:
                             continue
                         mult = 3.0
-                    w = mult * (2.0 / 3.0) * Vp * vol[qa] * vol[qb] * C2[c]
+                    w = mult * wa * vol[qb]
                     tol2 = DEGENERATE_TOL * (Ln[a] * Ln[a] + Ln[b] * Ln[b] + D2[a, b])
                     slots[0] = a + 1
                     slots[1] = b + 1
@@ -255,34 +416,15 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         A = abs(Xi[a, 0] * Xi[b, 1] - Xi[a, 1] * Xi[b, 0])
                         if A <= tol2:
                             continue
-                        s = xi[a, 0] * xi[b, 1] - xi[a, 1] * xi[b, 0]
-                        sg = 1.0 if s >= 0.0 else -1.0
-                        aa = abs(s)
-                        e_t = 0.5 * w * (aa - A) ** 2 / A
+                        e_t = _triple_2d(Kloc, f_loc, xi, a, b, w, A)
                         energy += e_t
-                        e_loc[0] += e_t / mult
+                        share = e_t / mult
+                        e_loc[0] += share
                         if mult > 1.0:
-                            e_loc[a + 1] += e_t / mult
-                            e_loc[b + 1] += e_t / mult
-                        d1 = w * (aa - A) / A * sg      # dpsi/ds
-                        d2 = w / A                       # d2psi/ds2
-                        g[0, 0] = xi[b, 1]
-                        g[0, 1] = -xi[b, 0]
-                        g[1, 0] = -xi[a, 1]
-                        g[1, 1] = xi[a, 0]
-                        for m in range(2):
-                            for nn in range(2):
-                                for al in range(2):
-                                    for be in range(2):
-                                        H[m, nn, al, be] = d2 * g[m, al] * g[nn, be]
-                        # d2 s / dxi_a dxi_b = [[0, 1], [-1, 0]]
-                        H[0, 1, 0, 1] += d1
-                        H[0, 1, 1, 0] -= d1
-                        H[1, 0, 1, 0] += d1
-                        H[1, 0, 0, 1] -= d1
-                        for m in range(2):
-                            for al in range(2):
-                                g[m, al] *= d1
+                            e_loc[a + 1] += share
+                            e_loc[b + 1] += share
+                        n_trip += 1
+                        continue
                     else:
                         N0 = np.empty(3)
                         N0[0] = Xi[a, 1] * Xi[b, 2] - Xi[a, 2] * Xi[b, 1]
@@ -392,17 +534,18 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         s = xab0 * xi[cc, 0] + xab1 * xi[cc, 1] + xab2 * xi[cc, 2]
                         sg = 1.0 if s >= 0.0 else -1.0
                         vv = abs(s)
-                        e_t = 0.5 * w * (vv - V0) ** 2 / V0
-                        energy += e_t
-                        e_loc[0] += e_t / mult
-                        if a_c:
-                            e_loc[a + 1] += e_t / mult
-                        if b_c:
-                            e_loc[b + 1] += e_t / mult
-                        if c_c:
-                            e_loc[cc + 1] += e_t / mult
-                        d1 = w * (vv - V0) / V0 * sg     # dpsi/ds
                         d2 = w / V0
+                        e_t = 0.5 * d2 * (vv - V0) ** 2
+                        energy += e_t
+                        share = e_t / mult
+                        e_loc[0] += share
+                        if a_c:
+                            e_loc[a + 1] += share
+                        if b_c:
+                            e_loc[b + 1] += share
+                        if c_c:
+                            e_loc[cc + 1] += share
+                        d1 = d2 * (vv - V0) * sg         # dpsi/ds
                         # ds/dxi_a = xi_b x xi_c, ds/dxi_b = xi_c x xi_a, ds/dxi_c = xi_a x xi_b
                         g[0, 0] = xi[b, 1] * xi[cc, 2] - xi[b, 2] * xi[cc, 1]
                         g[0, 1] = xi[b, 2] * xi[cc, 0] - xi[b, 0] * xi[cc, 2]
@@ -414,55 +557,27 @@ def assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
                         g[2, 1] = xab1
                         g[2, 2] = xab2
                         if want_tangent:
-                            for m in range(3):
-                                for nn in range(3):
-                                    for al in range(3):
-                                        for be in range(3):
-                                            H[m, nn, al, be] = d2 * g[m, al] * g[nn, be]
-                            # d2 s/dxi_a dxi_b = -[xi_c]x, (a,c) = [xi_b]x, (b,c) = -[xi_a]x
-                            for pair in range(3):
-                                if pair == 0:
-                                    m, nn, t, sgn = 0, 1, cc, -1.0
-                                elif pair == 1:
-                                    m, nn, t, sgn = 0, 2, b, 1.0
-                                else:
-                                    m, nn, t, sgn = 1, 2, a, -1.0
-                                # [v]x = [[0, -v2, v1], [v2, 0, -v0], [-v1, v0, 0]]
-                                e = sgn * d1
-                                H[m, nn, 0, 1] += -e * xi[t, 2]
-                                H[m, nn, 0, 2] += e * xi[t, 1]
-                                H[m, nn, 1, 0] += e * xi[t, 2]
-                                H[m, nn, 1, 2] += -e * xi[t, 0]
-                                H[m, nn, 2, 0] += -e * xi[t, 1]
-                                H[m, nn, 2, 1] += e * xi[t, 0]
-                                H[nn, m, 1, 0] += -e * xi[t, 2]
-                                H[nn, m, 2, 0] += e * xi[t, 1]
-                                H[nn, m, 0, 1] += e * xi[t, 2]
-                                H[nn, m, 2, 1] += -e * xi[t, 0]
-                                H[nn, m, 0, 2] += -e * xi[t, 1]
-                                H[nn, m, 1, 2] += e * xi[t, 0]
-                        for m in range(3):
+                            _quad_hessian(Kloc, g, d1, d2, xi, a, b, cc)
+                        for m, t in ((0, a), (1, b), (2, cc)):
                             for al in range(3):
-                                g[m, al] *= d1
-                        slots[0] = a + 1
-                        slots[1] = b + 1
-                        slots[2] = cc + 1
-                        _add_tuple(Kloc, f_loc, slots, 3, d, g, H)
+                                f_loc[3 * (t + 1) + al] += d1 * g[m, al]
                         n_quad += 1
         for m in range(nl):
             e_node[nodes[m]] += e_loc[m]
+        if want_tangent and d == 3 and C3[c] != 0.0:
+            _mirror_upper(Kloc, nl, d)
         _close_central(Kloc, f_loc, nl, d)
         for m in range(nl):
             for al in range(d):
                 f[nodes[m], al] += f_loc[m * d + al]
         if want_tangent:
-            _scatter(Kloc, nodes, nl, d, full, rowptr, cols, data)
+            _scatter(Kloc, nodes, nl, d, full, rowptr, cols, bslots, sptr[c] if bslots.shape[0] else 0, data)
     return energy, n_pairs, n_trip, n_quad
 
 
 @njit(parallel=True, cache=True)
 def assemble_blocks(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
-                    rowptr, cols, data, f, e_node, r2, color_ptr, block_ptr):
+                    rowptr, cols, data, f, e_node, r2, color_ptr, block_ptr, bslots, sptr):
     """:func:`assemble` over spatial blocks of central points, in parallel and race-free.
 
     Central points are sorted by block (``block_ptr`` delimits each block's slice of
@@ -485,8 +600,9 @@ def assemble_blocks(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
             s = block_ptr[b0 + k]
             e = block_ptr[b0 + k + 1]
             if e > s:
-                r = assemble(X, u, centers[s:e], nptr[s:e + 1], nidx, C1[s:e], C2[s:e], C3[s:e], vol,
-                             want_tangent, rowptr, cols, data, f, e_node, r2)
+                r = _assemble(X, u, centers[s:e], nptr[s:e + 1], nidx, C1[s:e], C2[s:e], C3[s:e], vol,
+                              want_tangent, rowptr, cols, data, f, e_node, r2, bslots,
+                              sptr[s:e + 1] if bslots.shape[0] else sptr)
                 out_e[k] = r[0]
                 out_n[k, 0] = r[1]
                 out_n[k, 1] = r[2]

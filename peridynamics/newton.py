@@ -9,6 +9,13 @@ extrapolation of the last converged increment (for a linear problem its first re
 is already round-off small, hence the normalisation by the un-extrapolated state). A backtracking line search on the energy / residual guards against
 diverging iterations; a step that still fails is bisected (``max_cuts`` times) before a
 :class:`interfaces.errors.SolverError` is raised saying what to change.
+
+The Newton step is inexact: K(u_k) du = -R_k is solved to the relative residual of
+:func:`forcing` (which keeps the quadratic rate) by conjugate gradients on the current
+exact tangent, preconditioned by the factors of an earlier tangent
+(:class:`TangentSolver`): one factorisation serves all iterations and load steps while
+the tangent stays close to it, so an iteration costs one tangent assembly and a few
+triangular solves.
 """
 from __future__ import annotations
 
@@ -63,9 +70,11 @@ class ReducedMatrix:
             self.source = keep[order]
             self.target = np.cumsum(first) - 1
 
-    def __call__(self, data: np.ndarray) -> sp.csr_matrix:
+    def __call__(self, data: np.ndarray, out: np.ndarray | None = None) -> sp.csr_matrix:
+        """K_ff from the full pattern's ``data``; ``out`` (len(indices)) receives the values
+        of an injective map instead of a new array (shared with the returned matrix)."""
         if self.injective:
-            vals = data[self.gather]
+            vals = np.take(data, self.gather, out=out) if out is not None else data[self.gather]
         else:
             vals = np.bincount(self.target, weights=data[self.source], minlength=len(self.indices))
         return sp.csr_matrix((vals, self.indices, self.indptr), shape=self.shape)
@@ -95,29 +104,75 @@ class NewtonOutcome:
     linear: dict = field(default_factory=dict)        # factorisation / Krylov counts
 
 
+def pcg(K, r: np.ndarray, precondition, rtol: float, maxiter: int):
+    """Preconditioned conjugate gradients for the symmetric positive definite K x = r.
+
+    Starts from x = M^-1 r (M^-1 = ``precondition``, the factors of an earlier tangent)
+    and stops when the residual ||r - K x|| (updated recursively; checked directly at the
+    end, allowing 2x round-off drift) is below ``rtol`` ||r||. Returns (x, iterations), or
+    (None, iterations) when it does not converge within ``maxiter`` or meets a direction
+    of non-positive curvature (K not positive definite: the caller refactorises).
+    """
+    rn0 = float(np.linalg.norm(r))
+    if rn0 == 0.0:
+        return np.zeros_like(r), 0
+    goal = rtol * rn0
+    x = precondition(r)
+    res = r - K @ x
+    p = None
+    rz = 1.0
+    it = 0
+    while float(np.linalg.norm(res)) > goal:
+        if it == maxiter or not np.all(np.isfinite(res)):
+            return None, it
+        z = precondition(res)
+        rz, rz_old = float(res @ z), rz
+        p = z if p is None else z + (rz / rz_old) * p
+        q = K @ p
+        pq = float(p @ q)
+        if not pq > 0.0:
+            return None, it
+        alpha = rz / pq
+        x += alpha * p
+        res -= alpha * q
+        it += 1
+    ok = np.linalg.norm(r - K @ x) <= 2.0 * goal        # the recursive residual drifts by round-off
+    return (x if ok else None), it
+
+
 class TangentSolver:
-    """Sparse direct solve of K du = r, with the factors reused as a preconditioner.
+    """K du = r for the Newton tangents of one solve: a direct factorisation, reused as the
+    preconditioner of a Krylov solve in the following iterations and load steps.
 
     Factorisations go through :class:`interfaces.sparse.DirectSolver` (PARDISO LDL^T
-    where it loads, SuperLU otherwise, chosen at run time; ``name`` says which), whose
-    symbolic analysis is kept as long as the pattern repeats: the reduced tangent has one
-    pattern for the whole solve, so every load step and iteration repeats only the
-    numeric factorisation. Later Newton iterations solve the *current* tangent to a
-    relative true residual ``rtol`` by GMRES right-preconditioned with the old factors
-    (two triangular solves and one product with K per Krylov iteration instead of a new
-    factorisation); if GMRES needs more than ``max_krylov`` iterations the tangent has
-    moved too far and K is factorised afresh. The Newton loop asks for a relative linear
-    residual of min(1e-3, 1e-2 ||R_k|| / ||R_0||) (an inexact-Newton forcing term that
-    preserves the quadratic rate). ``reuse=False`` factorises every iteration.
+    where it loads, SuperLU otherwise, chosen at run time; ``name`` says which); the
+    reduced tangent keeps one pattern for the whole solve, so the symbolic analysis is
+    done once. After a factorisation, later systems are solved with the *current*
+    tangent K to the relative residual ``rtol`` asked by the Newton loop (inexact Newton
+    forcing term) by preconditioned conjugate gradients (:func:`pcg`) with the old
+    factors as preconditioner: two triangular solves and one product with K per
+    iteration instead of a new factorisation (a factorisation costs ~20 triangular
+    solves at 100 x 100 CPD points). An indefinite factorisation (negative pivots) uses
+    right-preconditioned GMRES instead. The factors are renewed when the Krylov method
+    fails, and after any solve that needed more than ``refactor_after`` iterations (the
+    tangent has moved away from the factorised one). ``reuse=False`` factorises every
+    system.
     """
 
-    def __init__(self, reuse: bool = True, rtol: float = 1e-12, max_krylov: int = 30, kind: str = "auto"):
+    def __init__(self, reuse: bool = True, rtol: float = 1e-12, max_krylov: int = 30, kind: str = "auto",
+                 refactor_after: int = 8):
         self.reuse = reuse
         self.rtol = rtol
         self.max_krylov = max_krylov
-        self.direct = DirectSolver(kind)
+        self.refactor_after = refactor_after
+        # explicit nested-dissection ordering: it also switches off MKL's default two steps of
+        # iterative refinement per solve (3x the triangular-solve cost; the Krylov loop refines)
+        self.direct = DirectSolver(kind, ordering="metis")
         self.factored = False
-        self.stats = {"factorizations": 0, "krylov_solves": 0, "krylov_iterations": 0}
+        self.definite = True
+        self.stale = False
+        self.stats = {"factorizations": 0, "krylov_solves": 0, "krylov_iterations": 0,
+                      "krylov_method": None}
         self.times = {"factorization": 0.0, "triangular_solves": 0.0, "krylov": 0.0}
 
     @property
@@ -131,6 +186,8 @@ class TangentSolver:
         except SingularMatrixError as e:
             raise RuntimeError(str(e)) from None
         self.factored = True
+        self.stale = False
+        self.definite = self.direct.negative_pivots() == 0
         self.stats["factorizations"] += 1
         self.times["factorization"] += time.perf_counter() - t0
 
@@ -140,8 +197,7 @@ class TangentSolver:
         self.times["triangular_solves"] += time.perf_counter() - t0
         return x
 
-    def _krylov(self, K, r: np.ndarray, rtol: float):
-        t0 = time.perf_counter()
+    def _gmres(self, K, r: np.ndarray, rtol: float):
         M = LinearOperator(K.shape, matvec=self._back, dtype=np.float64)
         count = [0]
 
@@ -150,26 +206,50 @@ class TangentSolver:
 
         x, info = gmres(K, r, x0=self._back(r), rtol=0.1 * rtol, atol=0.0, restart=self.max_krylov,
                         maxiter=1, M=M, callback=cb, callback_type="pr_norm")
-        rn = np.linalg.norm(r)
-        ok = np.all(np.isfinite(x)) and np.linalg.norm(r - K @ x) <= rtol * rn
+        ok = np.all(np.isfinite(x)) and np.linalg.norm(r - K @ x) <= rtol * np.linalg.norm(r)
+        return (x if ok else None), count[0]
+
+    def _krylov(self, K, r: np.ndarray, rtol: float):
+        t0 = time.perf_counter()
+        if self.definite:
+            x, its = pcg(K, r, self._back, rtol, self.max_krylov)
+        else:
+            x, its = self._gmres(K, r, rtol)
         self.times["krylov"] += time.perf_counter() - t0
-        if ok:
+        if x is not None:
             self.stats["krylov_solves"] += 1
-            self.stats["krylov_iterations"] += count[0]
-            return x
-        return None
+            self.stats["krylov_iterations"] += its
+            self.stats["krylov_method"] = "cg" if self.definite else "gmres"
+            self.stale = its > self.refactor_after
+        return x
 
     def solve(self, K, r: np.ndarray, rtol: float | None = None) -> np.ndarray:
         """Solve K x = r to the relative residual ``rtol`` (default ``self.rtol``)."""
-        if self.factored and self.reuse:
-            x = self._krylov(K, r, self.rtol if rtol is None else max(rtol, self.rtol))
+        rtol = self.rtol if rtol is None else max(rtol, self.rtol)
+        if self.factored and self.reuse and not self.stale:
+            x = self._krylov(K, r, rtol)
             if x is not None:
                 return x
         self._factor(K)
+        if self.reuse:                   # fresh factors: usually no Krylov iteration at all
+            x = self._krylov(K, r, rtol)
+            if x is not None:
+                return x
         x = self._back(r)
         # one step of iterative refinement
         x += self._back(r - K @ x)
         return x
+
+
+def forcing(r: float, tol: float) -> float:
+    """Relative linear residual asked of the Newton step at normalised residual ``r``.
+
+    1 % of r (at most 1e-3) keeps the quadratic rate of an inexact Newton method (the
+    linear error is of the order of the quadratic term r^2); no tighter than 0.1 tol / r,
+    which already brings the next residual below ``tol`` (solving further would only
+    cost Krylov iterations that the stopping test cannot see).
+    """
+    return min(1e-3, max(1e-2 * r, 0.1 * tol / max(r, 1e-300)))
 
 
 @dataclass
@@ -217,9 +297,14 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     t = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
     failures: list[StepFailure] = []
 
+    # one tangent buffer and one reduced-matrix buffer, refilled by every evaluation: only
+    # the current tangent is ever used (the factors live in the direct solver)
+    tangent_buffer = np.empty(system.pattern.nnz)
+    reduced_buffer = np.empty(len(red.indices)) if red.injective else None
+
     def evaluate(v, tangent):
         t0 = time.perf_counter()
-        ev = system.evaluate(dofs.expand(v), tangent)
+        ev = system.evaluate(dofs.expand(v), tangent, out=tangent_buffer if tangent else None)
         t["assembly" if tangent else "line_search"] += time.perf_counter() - t0
         return ev
 
@@ -232,6 +317,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
         v[fixed] = lam1 * ubar[fixed]
         res_hist = []
         steps = []
+        times = []                                   # (wall, cpu) per iteration
         scale = None
 
         def fail(reason):
@@ -248,6 +334,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             # secant predictor: continue the last converged increment (free DOFs)
             v[free] += (lam1 - lam0) / (lam0 - prev["lam"]) * (u[free] - prev["u"][free])
 
+        clock = (time.perf_counter(), time.process_time())
         try:
             ev = evaluate(v, True)
         except ValueError as e:
@@ -261,21 +348,24 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                 scale = max(rn, 1e-300)
             res_hist.append(rn / scale)
             if rn <= opts.tol * scale or rn == 0.0:
-                return v, res_hist, ev, steps
+                return v, res_hist, ev, (steps, times)
             if it == opts.max_iter:
                 return fail(f"max_iter = {opts.max_iter} reached")
+            if ev.tangent is None:
+                ev = evaluate(v, True)
+            eta = forcing(rn / scale, opts.tol)
             t0 = time.perf_counter()
             try:
-                # forcing term of an inexact Newton method: the linear error stays below
-                # 1 % of the current (normalised) residual, which keeps the quadratic rate
-                du = lin.solve(red(ev.tangent.data), -R, rtol=min(1e-3, 1e-2 * rn / scale))
+                du = lin.solve(red(ev.tangent.data, out=reduced_buffer), -R, rtol=eta)
             except RuntimeError as e:
                 return fail(f"singular tangent ({e})")
             t["linear_solve"] += time.perf_counter() - t0
             if not np.all(np.isfinite(du)):
                 return fail("non-finite Newton increment (singular tangent)")
             # full Newton step, evaluated with the tangent (reused by the next iteration
-            # when accepted); backtracking with energy-only evaluations otherwise
+            # when accepted) unless the step is expected to converge (the forcing term is
+            # at its tol floor); backtracking with energy-only evaluations otherwise
+            with_tangent = 1e-2 * (rn / scale) ** 2 > 0.1 * opts.tol
             w0 = ev.energy - lam1 * float(fext[free] @ v[free])
             alpha = 1.0
             accepted = None
@@ -284,7 +374,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                 trial = v.copy()
                 trial[free] += alpha * du
                 try:
-                    et = evaluate(trial, trial_no == 0)
+                    et = evaluate(trial, trial_no == 0 and with_tangent)
                 except ValueError as e:          # points collapsed: shorten the step
                     why = f"line search: {e}"
                     alpha *= 0.5
@@ -298,9 +388,10 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             if accepted is None:
                 return fail(why)
             v, ev = accepted
-            if ev.tangent is None:
-                ev = evaluate(v, True)
             steps.append(alpha)
+            now = (time.perf_counter(), time.process_time())
+            times.append((now[0] - clock[0], now[1] - clock[1]))
+            clock = now
         return fail(f"max_iter = {opts.max_iter} reached")
 
     targets = list(opts.load_factors) if opts.load_factors else \
@@ -322,8 +413,12 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                     f"[{hist}]); {_advice(f)}")
             targets.insert(0, 0.5 * (lam + target))      # bisect the step
             continue
-        u, hist, ev, alphas = got
-        out.history.append({"load": target, "residuals": hist, "line_search_steps": alphas})
+        u, hist, ev, (alphas, times) = got
+        # per iteration: the linear solve and the evaluation of the next iterate (its
+        # residual and, unless the step is expected to converge, its tangent); the first
+        # iteration of a step also evaluates the tangent at the step's start
+        out.history.append({"load": target, "residuals": hist, "line_search_steps": alphas,
+                            "iteration_wall_s": [w for w, _ in times], "iteration_cpu_s": [c for _, c in times]})
         out.iterations += len(hist) - 1
         out.last = ev
         prev["u"], prev["lam"] = out.u, lam

@@ -146,7 +146,7 @@ def test_one_symbolic_analysis_for_all_iterations_and_load_steps():
 @pytest.mark.parametrize("D", [math.inf, 1e-2])
 def test_cuboid_at_the_papers_spacing_reduced_size(D):
     """003 Sec 4.5 spacing Delta = 0.035, delta = 3.01 Delta, on a 0.3 x 0.2 x 0.2 cuboid
-    (540 points, 3.8e7 quadruples per tangent, ~6 s each on one core): quadratic Newton,
+    (540 points, 3.8e7 quadruples per tangent, ~4 s each on one core): quadratic Newton,
     with the perfect and with a compliant interface (D h / mu ~ 28)."""
     case = library.cuboid(interface="horizontal", load_case=2, size=(0.3, 0.2, 0.2), Dn=D, Dt=D)
     res = peridynamics.solve(case, h=0.035)

@@ -160,3 +160,26 @@ def test_coloured_parallel_assembly_is_race_free_and_thread_independent():
     assert np.allclose(ev.residual, f, rtol=0, atol=1e-13 * np.abs(f).max())
     assert np.allclose(ev.tangent.data, data, rtol=0, atol=1e-13 * np.abs(data).max())
     assert all(np.array_equal(r.tangent.data, runs[0].tangent.data) and r.energy == runs[0].energy for r in runs)
+
+
+@pytest.mark.parametrize("dim,C", [(2, (1.0, 0.5, 0.0)), (3, (1.0, 0.0, 0.7)), (2, (1.0, 0.0, 0.0))])
+def test_block_slots_and_binary_search_scatter_agree(dim, C):
+    """The tangent through the block slots found once per pattern equals the one found by
+    binary search (the path taken above the memory budget), also for a pair-only material
+    (whose neighbour-neighbour blocks are outside the pattern); a refilled buffer equals a
+    fresh array."""
+    from peridynamics.assembly import tangent_slots
+
+    system, u = _random_system(dim, C, 40 if dim == 2 else 30, seed=7, two_materials=True)
+    assert all(len(s) > 0 for s, _ in system._slots)
+    ev = system.evaluate(u)
+    buf = np.full(system.pattern.nnz, np.nan)
+    ev_buf = system.evaluate(u, out=buf)
+    assert np.shares_memory(ev_buf.tangent.data, buf) and np.array_equal(buf, ev.tangent.data)
+    system._slots = tangent_slots(system.blocks, system.pattern, budget=0)
+    assert all(len(s) == 0 for s, _ in system._slots)
+    ev_bs = system.evaluate(u)
+    assert np.array_equal(ev_bs.tangent.data, ev.tangent.data)
+    assert np.array_equal(ev_bs.residual, ev.residual)
+    with pytest.raises(ValueError, match="float64 array"):
+        system.evaluate(u, out=np.zeros(3))

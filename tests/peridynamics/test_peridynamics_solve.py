@@ -156,9 +156,11 @@ def _table3(h):
         assert (r[0] == 1.0 if k == 0 else r[0] < 1.0) and r[-1] <= 1e-11
         # 003 Table 3: 4 iterations per step; measured at h = 0.05: 3, 3, 3, 4, 5
         assert len(r) - 1 <= 5
-        # quadratic rate in the asymptotic range (above round-off): measured b / a^2 <= 1.8
+        # quadratic rate in the asymptotic range, for the iterations that end above tol
+        # (the last one solves its linear system only to the forcing floor 0.1 tol / r,
+        # peridynamics.newton.forcing: enough to land below tol, not to show the rate)
         for a, b in zip(r[:-1], r[1:]):
-            if a < 1e-2 and b > 1e-13:
+            if a < 1e-2 and b > 1e-11:
                 assert b < 10.0 * a * a
     # the converged state is in equilibrium: the reactions of the two gripped sides balance
     q = res.quantities
