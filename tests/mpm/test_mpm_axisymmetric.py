@@ -152,14 +152,30 @@ def test_core_sleeve_pull_out_matches_axisymmetric_fem():
     assert a["interface_energy"] == pytest.approx(b["interface_energy"], rel=5e-3)
 
 
+def test_core_sleeve_perfect_bond_held_outside_matches_fem_energy():
+    """Dt = inf, the sleeve held on its outer surface (no singular corner on the bond:
+    with the base support the perfect-bond stiffness keeps falling under refinement).
+    The stored energy under the applied load, MPM at 0.25 mm against FEM at 0.0625 mm
+    (FEM converged to 6e-5 there): measured +0.048 % (+0.004 % at 0.125 mm). FEM's
+    reported load on the core top is below sigma pi a^2 here (3.122 at 0.0625 mm), so the
+    energy, not FEM's P / delta, is compared."""
+    import fem
+    from cases.library import core_sleeve
+    a = mpm.solve(core_sleeve(Dt=math.inf, support="outer", mpm_cell=0.25),
+                  progress=False).quantities
+    b = fem.solve(core_sleeve(Dt=math.inf, support="outer", fem_h=0.0625)).quantities
+    assert a["strain_energy"] == pytest.approx(b["strain_energy"], rel=2e-3)
+    assert a["load"] == pytest.approx(math.pi, rel=1e-12)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("Dt", [1.0, 10.0, 100.0])
 def test_core_sleeve_within_fem_over_dt(Dt):
     """MPM at 0.25 mm against FEM for Dt = 1, 10, 100 MPa/mm (measured -0.28, -0.30,
-    +0.10 % in stiffness). Dt = inf is not here: with a perfect bond the pull-out
-    stiffness of this specimen does not converge in FEM (-1.1 % per halving of h down to
-    0.016 mm, a singular corner), and MPM follows the same trend (+3.9 / +3.2 / +2.6 %
-    above FEM at equal h = 0.5 / 0.25 / 0.125)."""
+    +0.10 % in stiffness). Dt = inf with this base support is not here: with a perfect
+    bond its stiffness does not converge in FEM (-1.1 % per halving of h down to 0.016 mm,
+    a singular corner), and MPM follows the same trend (+3.9 / +3.2 / +2.6 % above FEM at
+    equal h = 0.5 / 0.25 / 0.125); the outer support is the perfect-bond test."""
     a, b = _core_sleeve(Dt, 0.25)
     assert a["stiffness"] == pytest.approx(b["stiffness"], rel=1e-2)
     assert a["interface_energy"] == pytest.approx(b["interface_energy"], rel=1e-2)
