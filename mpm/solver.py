@@ -625,7 +625,8 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
         "particles": pt.P, "nodes": model.grid.N, "cell": model.grid.cell.tolist(),
         "ppc": opts["ppc"], "shape": opts["shape"], "update": opts["update"],
         "damping": opts["damping"], "stopped_by": run.stopped_by,
-        "history": {name: col[::step].tolist() for name, col in zip(HIST_COLUMNS, _cumulative(hist).T)},
+        "history": {name: col[::step].tolist()
+                    for name, col in zip(HIST_COLUMNS, _cumulative(_ring(model, hist)).T)},
         "warnings": list(res.diagnostics.get("warnings", [])) + run.warnings,
     })
     return res
@@ -635,6 +636,16 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
 _RING_QUANTITIES = ("strain_energy", "interface_energy", "kinetic_energy", "kinetic_energy_grid",
                     "external_work", "dissipated_energy", "load", "stiffness",
                     "stiffness_particle_rows", "stiffness_energy")
+
+
+def _ring(model: Model, hist: np.ndarray) -> np.ndarray:
+    """The energy history of an axisymmetric run (per radian) for the whole ring, as its
+    quantities; others unchanged."""
+    if not model.axisymmetric:
+        return hist
+    out = hist.copy()
+    out[:, 1:] *= 2.0 * math.pi
+    return out
 
 
 def _cumulative(hist: np.ndarray) -> np.ndarray:

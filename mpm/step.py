@@ -205,23 +205,20 @@ def phase_g2p(ctl, pt, grid, nd, blocks, scale):
 
 
 @njit(cache=True, inline="always")
-def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, multi) -> float:
+def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes) -> float:
     """Step 9 (MUSL): the updated particle momenta re-extrapolated to the grid with the
-    start-of-step shape functions (``pt.x_before``: the nodes, masses, multimaterial
-    nodes and LR normals of this step stay those of the first extrapolation), the
-    velocity conditions and (``multi``) the contact correction applied to them, then the
-    strain increment from them with the same shape-function gradients; returns the
-    strain energy. (Shape functions at the moved positions instead made the strain lag
-    the motion the particles made: -15 % energy drift in an undamped block.)"""
+    start-of-step shape functions (``pt.x_before``, as the reference strain-last
+    algorithm does: the masses, hence the multimaterial ``nodes``, and the LR normals of
+    this step stay those of the first extrapolation), the velocity conditions and the
+    contact correction on ``nodes`` applied to them, then the strain increment from them
+    with the same shape-function gradients; returns the strain energy."""
     x = pt.x_before
     p2g_momentum_2d(x, pt.v, pt.mass, pt.field, grid.origin, grid.cell, grid.nn, pt.lp,
                     grid.kind, nd.mass, nd.momentum)
     set_velocity_bc(nd.mass, nd.momentum, bc.node, bc.field, bc.comp, vel)
-    if multi:
-        nodes = multimaterial_nodes(nd.mass)
-        if nodes.size:
-            phase_contact(0, ctl, grid, nd, pairs, nodes)
-            phase_bonded_conditions(ctl, nd, bc, pairs, vel, False)
+    if nodes.size:
+        phase_contact(0, ctl, grid, nd, pairs, nodes)
+        phase_bonded_conditions(ctl, nd, bc, pairs, vel, False)
     if not ctl.axisymmetric:
         return phase_stress(ctl, pt, grid, nd, x)
     pt.strain_before[:] = pt.strain
@@ -281,7 +278,7 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
     if lost >= 0:
         return lost
     if ctl.mode == MUSL:
-        U = phase_musl(ctl, pt, grid, nd, bc, pairs, vel, multi)
+        U = phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes)
     row[1] = ke
     row[2] = U
     row[3] = work

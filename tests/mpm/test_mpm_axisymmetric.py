@@ -43,6 +43,9 @@ def test_solid_rod_in_uniaxial_tension_matches_the_closed_form():
     assert np.median(u[:, 1] / (t * x[:, 1] / E)) == pytest.approx(1.0, abs=4e-3)
     assert res.quantities["strain_energy"] == pytest.approx(
         0.5 * t * t / E * math.pi * R * R * L, rel=5e-3)
+    # the energy history is the whole ring's too (the run itself is per radian)
+    assert res.diagnostics["history"]["strain"][-1] == pytest.approx(
+        res.quantities["strain_energy"], rel=1e-12)
     # no hoop or radial stress in uniaxial tension (sigma_tt is the 4th component)
     assert np.abs(s[:, 3]).max() < 2e-3 * t and np.abs(s[:, 0]).max() < 4e-3 * t
 
