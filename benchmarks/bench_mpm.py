@@ -10,6 +10,11 @@ numba fixes the thread count at import):
   with the imperfect interface active (multimaterial P2G, nodal displacement
   extrapolation, two contact corrections and interface forces per step, in the same
   :func:`mpm.step.run_steps`).
+* ``single_3d_ugimp``: a 3D one-material box of ~200k particles (uGIMP, 2x2x2 per
+  cell, 30 x 30 x 28 cells), bottom fixed, sheared top traction (mpm/kernels3d.py);
+  ``single_3d_b2`` the same with the quadratic B-spline.
+* ``interface_3d``: the same box split at mid-height by an imperfect interface
+  (Dn = Dt = 1000 MPa/mm, volume-gradient normals, force limiting), ~200k particles.
 * scaling: ``single_ugimp`` at ~25k, ~100k and ~400k particles on one thread.
 
 Compilation is excluded (a warm-up chunk runs first). The machine is a shared VM whose
@@ -17,9 +22,11 @@ speed drifts by up to ~1.6x within a minute (the same compiled loop takes 22 to 
 so every run is timed in ``--windows`` windows: the JSON keeps the median (judged
 against the target) and the best window, and a reference loop timed before each run
 (``reference_loop_ms``) shows the machine's speed at the time. Targets (one core):
->= 1e7 particle-steps/s single material, >= 5e6 with the interface.
+>= 1e7 particle-steps/s single material, >= 5e6 with the interface (2D); 3D
+>= 3e6 single material and >= 1.5e6 with the interface.
 
-Usage: ``python benchmarks/bench_mpm.py [--steps 400] [--windows 8] [--no-scaling]``
+Usage: ``python benchmarks/bench_mpm.py [--steps 400] [--windows 8] [--no-scaling]
+[--runs single_ugimp,dls_interface,single_3d_ugimp,single_3d_b2,interface_3d]``
 """
 from __future__ import annotations
 
@@ -31,7 +38,8 @@ import sys
 import time
 from pathlib import Path
 
-TARGETS = {"single_ugimp": 1e7, "dls_interface": 5e6}
+TARGETS = {"single_ugimp": 1e7, "dls_interface": 5e6, "single_3d_ugimp": 3e6,
+           "single_3d_b2": 3e6, "interface_3d": 1.5e6}
 
 
 def _block_case(side: float = 160.0):
@@ -42,6 +50,25 @@ def _block_case(side: float = 160.0):
                 boundary_conditions=[
                     BoundaryCondition("fixed", "b", "ymin", ("x", "y"), (0.0, 0.0)),
                     BoundaryCondition("traction", "b", "ymax", ("x", "y"), (1.0, -5.0))])
+
+
+def _box_case(split: bool):
+    """3D box of 30 x 30 x 28 cells of 1 mm (~200k particles at 2x2x2 per cell), bottom
+    fixed, sheared traction on top; ``split``: two bodies joined at mid-height by an
+    imperfect interface."""
+    from interfaces import (Body, BoundaryCondition, Box, Case, InterfacePair, IsotropicElastic,
+                            LinearInterface)
+    mat = IsotropicElastic(E=1000.0, nu=0.3, rho=1e-9)
+    if split:
+        bodies = [Body("low", Box(0, 0, 0, 30, 15, 28), "m"), Body("up", Box(0, 15, 0, 30, 15, 28), "m")]
+        pairs = [InterfacePair("low", "up", LinearInterface(Dn=1000.0, Dt=1000.0))]
+    else:
+        bodies, pairs = [Body("b", Box(0, 0, 0, 30, 30, 28), "m")], []
+    low, up = bodies[0].name, bodies[-1].name
+    return Case(name="box3d", analysis="3d", thickness=1.0, materials={"m": mat}, bodies=bodies,
+                interfaces=pairs, boundary_conditions=[
+                    BoundaryCondition("fixed", low, "ymin", ("x", "y", "z"), (0.0, 0.0, 0.0)),
+                    BoundaryCondition("traction", up, "ymax", ("x", "y"), (1.0, -5.0))])
 
 
 def _reference_loop_ms() -> float:
@@ -73,6 +100,10 @@ def measure(name: str, steps: int, windows: int, side: float) -> dict:
     if name == "single_ugimp":
         case = _block_case(side)
         opts = merge(case, {"cell": 1.0, "shape": "ugimp", "progress": False})
+    elif name in ("single_3d_ugimp", "single_3d_b2", "interface_3d"):
+        case = _box_case(name == "interface_3d")
+        opts = merge(case, {"cell": 1.0, "shape": "b2" if name.endswith("b2") else "ugimp",
+                            "progress": False})
     else:
         from cases.library import dls
         case = dls(Dt=5.0, mpm_cell=0.1)
@@ -114,12 +145,13 @@ def main() -> None:
     ap.add_argument("--no-scaling", action="store_true", help="skip the problem-size sweep")
     ap.add_argument("--out", default=str(Path(__file__).with_name("bench_mpm.json")))
     ap.add_argument("--worker", help=argparse.SUPPRESS)
+    ap.add_argument("--runs", default=",".join(TARGETS), help="comma-separated runs")
     args = ap.parse_args()
     if args.worker:
         print(json.dumps(measure(args.worker, args.steps, args.windows, args.side)))
         return
     results = []
-    for name in ("single_ugimp", "dls_interface"):
+    for name in args.runs.split(","):
         for threads in (1, 2):
             rec = _worker(name, threads, args.steps, args.windows, 160.0)
             rec.update({"target": TARGETS[name],

@@ -7,6 +7,8 @@ import numpy as np
 
 from interfaces.errors import CaseError
 
+from interfaces.bulk import bulk_modulus  # noqa: F401  (re-exported: the FEM measure)
+
 from .assembly import facet_load
 
 
@@ -38,22 +40,6 @@ def stiffness(disc, meas: dict, f_int: np.ndarray, u: np.ndarray, U_total: float
     return {"load": P, "displacement_load": u_load, "displacement_support": u_sup,
             "stiffness": P / delta if delta != 0 else math.nan,
             "stiffness_energy": P * P / (2.0 * U_total) if U_total > 0 else math.nan}
-
-
-def bulk_modulus(meas: dict, U_total: float, analysis: str) -> float:
-    """Bulk modulus from the stored energy of a uniform dilatation u = eps0 x on the outer
-    boundary (000 Eq 34-35): U = (d^2/2) K eps0^2 V, i.e. K = 2 U / (9 V eps0^2) for an
-    axisymmetric (or 3D) body, d = 3, and the transverse (in-plane) k = U / (2 V eps0^2) of a
-    plane-strain section, d = 2 (composite cylinders). ``U_total`` = bulk + interface energy
-    of the volume ``V`` (whole ring when axisymmetric)."""
-    try:
-        eps0, volume = float(meas["strain"]), float(meas["volume"])
-    except (KeyError, TypeError, ValueError):
-        raise CaseError(f"measurements.bulk_modulus needs strain and volume (numbers), got {meas!r}") from None
-    if not eps0 != 0 or not volume > 0:
-        raise CaseError(f"measurements.bulk_modulus: strain must be non-zero and volume > 0, got {meas!r}")
-    d = 2 if analysis in ("plane_strain", "plane_stress") else 3
-    return 2.0 * U_total / (d * d * volume * eps0 * eps0)
 
 
 __all__ = ["side_average", "stiffness", "bulk_modulus"]

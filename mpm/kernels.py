@@ -13,7 +13,7 @@ contiguous blocks in parallel (race-free P2G: one nodal buffer per block, numba 
 CPU atomics). The time step assembled from these kernels is mpm/step.py. Hot loops take the 1D shape weights as scalars
 (:func:`mpm.shape.axis_weights_tuple`) and keep work arrays local: passing arrays into
 inlined helpers per particle costs numba reference-count calls (halved P2G speed).
-3D kernels are an addition with the same signatures (``shape_3d``, ``p2g_3d``, ...).
+The 3D particle kernels, with the same arguments, are those of mpm/kernels3d.py.
 """
 from __future__ import annotations
 
@@ -22,7 +22,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .shape import axis_weights, axis_weights3, axis_weights_tuple, shape_2d_work, stencil_work
+from .shape import (axis_weights, axis_weights3, axis_weights_tuple, edge_kind, shape_2d_work,
+                    stencil_work)
 
 #: stress-update schemes: update stress last (grid velocities after the momentum
 #: update), first (initial extrapolation), modified USL (re-extrapolated particle momenta)
@@ -68,8 +69,10 @@ def _traction_weights(px, py, ex, ey, origin, cell, nn, lp, kind, tidx, tw,
     """Nodes and weights carrying the traction of the particle at (px, py) whose loaded
     edge point is (ex, ey); returns their number.
 
-    Linear grid weights at the edge point (the particle-edge integral of GIMP
-    tractions: on an edge lying on a node line the whole force goes to that line), kept
+    The grid weights of a surface point at the edge point (:func:`mpm.shape.edge_kind`:
+    linear for GIMP, the particle-edge integral of GIMP tractions, so that on an edge
+    lying on a node line the whole force goes to that line; the spline itself for B2,
+    whose internal forces integrate the spline over the body), kept
     only on nodes of the particle's own support (S_ip > 0), then renormalised: a node
     without mass (the edge moved past a node line) would lose the force. The small
     share a tail node receives once the edge has moved past a node line balances the
@@ -84,7 +87,8 @@ def _traction_weights(px, py, ex, ey, origin, cell, nn, lp, kind, tidx, tw,
     if ex == px and ey == py:
         nay = 0  # no edge offset (side not on the grid axes): the particle's weights
     else:
-        i0, j0, nax, nay = _support(ex, ey, origin, cell, nn, lp, 0, wx, dwx, wy, dwy)
+        i0, j0, nax, nay = _support(ex, ey, origin, cell, nn, lp, edge_kind(kind), wx, dwx,
+                                    wy, dwy)
     for b in range(nay):
         for a in range(nax):
             ka = i0 + a - k0
@@ -258,7 +262,7 @@ def normalise_fields(mass, disp, pos):
         for f in range(mass.shape[1]):
             if mass[n, f] > 0.0:
                 inv = 1.0 / mass[n, f]
-                for d in range(2):
+                for d in range(disp.shape[2]):
                     disp[n, f, d] *= inv
                     pos[n, f, d] *= inv
 
@@ -300,14 +304,25 @@ def multimaterial_nodes(mass):
 # ------------------------------------------------------------ grid update ----
 
 
+@njit(cache=True, inline="always")
+def real_share(real_mass, mass, n, f) -> float:
+    """Share of the nodal mass that is the run's own material: 1, or with the B2
+    symmetry folds (``real_mass`` = the masses before the fold) real / folded, so that
+    the damping and reactions count only the real body's energy."""
+    if real_mass.shape[0] == 0:
+        return 1.0
+    return real_mass[n, f] / mass[n, f]
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
-def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel):
+def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel, real_mass):
     """Momentum update p+ = p + (f - alpha p) dt (004 Eq 30) with grid damping alpha,
     then nodal velocity conditions per field: p+ = m v_bc and f += (m v_bc - p+)/dt.
 
     ``force`` keeps the damping and the reaction terms so that the FLIP update sees
     the acceleration of the grid. Returns (energy dissipated by damping this step,
-    work done by the prescribed velocities this step).
+    work done by the prescribed velocities this step), of the real material
+    (:func:`real_share`).
     """
     N, M, D = mom.shape
     diss = 0.0
@@ -316,10 +331,11 @@ def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel)
             m = mass[n, f]
             if m <= 0.0:
                 continue
+            w = real_share(real_mass, mass, n, f)
             for d in range(D):
                 p = mom[n, f, d]
                 fd = force[n, f, d] - alpha * p
-                diss += alpha * p * p / m * dt
+                diss += w * alpha * p * p / m * dt
                 force[n, f, d] = fd
                 mom[n, f, d] = p + fd * dt
     work = 0.0
@@ -334,7 +350,7 @@ def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel)
         reaction = (pn - mom[n, f, d]) / dt
         force[n, f, d] += reaction
         mom[n, f, d] = pn
-        work += reaction * bc_vel[b] * dt
+        work += real_share(real_mass, mass, n, f) * reaction * bc_vel[b] * dt
     return diss, work
 
 
@@ -590,6 +606,87 @@ def p2g_momentum_2d(x, v, pmass, field, origin, cell, nn, lp, kind, mass, mom):
                 mass[n, f] += s
                 mom[n, f, 0] += s * v[p, 0]
                 mom[n, f, 1] += s * v[p, 1]
+
+
+@njit(cache=True)
+def fold_ghosts(mass, mom, force, g_node, g_field, g_comp, g_mirror, g_ref, g_plane, plane_node,
+                plane_field, plane_of, bc_vel, with_force, real_mass):
+    """Fold the reflected material of the B2 symmetry planes onto the nodes inside
+    (:class:`mpm.boundary.GhostNodes`), plane after plane: each ghost adds its momentum
+    and force to its mirror node, reflected (odd about 2 m_g v_bc for a prescribed
+    component, even otherwise), and its mass once; then the plane's nodes count twice.
+    The force only ``with_force`` (MUSL re-extrapolation: mass and momentum); then
+    ``real_mass`` receives the masses before the fold (:func:`real_share`)."""
+    if with_force:
+        real_mass[:] = mass
+    n_planes = 0
+    for b in range(plane_of.size):
+        n_planes = max(n_planes, plane_of[b] + 1)
+    for b in range(g_plane.size):
+        n_planes = max(n_planes, g_plane[b] + 1)
+    for q in range(n_planes):
+        for b in range(g_node.size):
+            if g_plane[b] != q:
+                continue
+            n = g_node[b]
+            f = g_field[b]
+            d = g_comp[b]
+            m = g_mirror[b]
+            mg = mass[n, f]
+            if mg <= 0.0:
+                continue
+            if g_ref[b] >= 0:
+                mom[m, f, d] += 2.0 * mg * bc_vel[g_ref[b]] - mom[n, f, d]
+                if with_force:
+                    force[m, f, d] -= force[n, f, d]
+            else:
+                mom[m, f, d] += mom[n, f, d]
+                if with_force:
+                    force[m, f, d] += force[n, f, d]
+        for b in range(g_node.size):
+            first = b == 0 or g_node[b] != g_node[b - 1] or g_field[b] != g_field[b - 1] \
+                or g_plane[b] != g_plane[b - 1]
+            if g_plane[b] == q and first:
+                mass[g_mirror[b], g_field[b]] += mass[g_node[b], g_field[b]]
+        for b in range(plane_node.size):
+            if plane_of[b] != q:
+                continue
+            n = plane_node[b]
+            f = plane_field[b]
+            mass[n, f] *= 2.0
+            for d in range(mom.shape[2]):
+                mom[n, f, d] *= 2.0
+                if with_force:
+                    force[n, f, d] *= 2.0
+
+
+@njit(cache=True)
+def reflect_ghosts(mass, mom, force, dt, g_node, g_field, g_comp, g_mirror, g_ref, bc_vel,
+                   with_force, real_mass):
+    """Velocities of the B2 ghost nodes (:class:`mpm.boundary.GhostNodes`) reflected from
+    their mirror nodes: v_g = 2 v_bc - v_m for a prescribed component (``g_ref`` >= 0,
+    the condition's step velocity ``bc_vel[g_ref]``), v_g = v_m otherwise; the
+    reaction goes into ``force`` with ``with_force``. Three passes (a corner ghost may
+    mirror another side's ghost). Returns the reactions' work."""
+    work = 0.0
+    for _ in range(3):
+        for b in range(g_node.size):
+            n = g_node[b]
+            f = g_field[b]
+            d = g_comp[b]
+            m = mass[n, f]
+            if m <= 0.0:
+                continue
+            mm = mass[g_mirror[b], f]
+            vm = mom[g_mirror[b], f, d] / mm if mm > 0.0 else 0.0
+            v = 2.0 * bc_vel[g_ref[b]] - vm if g_ref[b] >= 0 else vm
+            pn = m * v
+            if with_force:
+                reaction = (pn - mom[n, f, d]) / dt
+                force[n, f, d] += reaction
+                work += real_share(real_mass, mass, n, f) * reaction * v * dt
+            mom[n, f, d] = pn
+    return work
 
 
 @njit(cache=True)

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from interfaces.bulk import bulk_modulus, bulk_modulus_from_pressure
 from interfaces.errors import CaseError
 
 from .particles import side_particles
@@ -57,6 +58,22 @@ def stiffness_quantities(case, particles, loads: list[dict], stored_energy: floa
     return out
 
 
+def bulk_quantities(case, particles, stored_energy: float, ring: float) -> dict:
+    """``bulk_modulus`` by energy (000 Eq 35, ``stored_energy`` = strain + interfacial
+    energy of the cell) and ``bulk_modulus_pressure`` from the volume-averaged pressure
+    (Eq 36) for ``case.measurements['bulk_modulus']``; ``ring`` = 2 pi for axisymmetric
+    runs (per-radian particle volumes), else 1. Empty dict if the case asks for none."""
+    meas = (case.measurements or {}).get("bulk_modulus")
+    if not meas:
+        return {}
+    stress = particles.stress
+    if case.analysis == "axisymmetric":
+        stress = stress[:, [0, 1, 3]]          # [rr, zz, tt] of the order [rr, zz, rz, tt]
+    return {"bulk_modulus": bulk_modulus(meas, stored_energy, case.analysis),
+            "bulk_modulus_pressure": bulk_modulus_from_pressure(
+                meas, ring * particles.volume0, stress, case.analysis)}
+
+
 def interface_profile(grid, node_out: np.ndarray, mass: np.ndarray | None = None,
                       pair: tuple[int, int] | None = None) -> dict | None:
     """Jump and traction at the interface nodes of the last step (helper columns of
@@ -74,8 +91,8 @@ def interface_profile(grid, node_out: np.ndarray, mass: np.ndarray | None = None
         top2 = np.sort(np.argsort(mass, axis=1)[:, -2:], axis=1)
         active &= (top2[:, 0] == min(pair)) & (top2[:, 1] == max(pair))
     rows = np.flatnonzero(active)
-    if rows.size == 0:
-        return None
+    if rows.size == 0 or grid.D != 2:
+        return None      # a 3D interface is a surface: no profile along one coordinate
     X = grid.node_positions()[rows]
     n = node_out[rows][:, [OUT_NX, OUT_NY]].mean(axis=0)
     t = np.array([-n[1], n[0]]) / max(np.linalg.norm(n), 1e-300)
@@ -102,12 +119,19 @@ def _direction(direction, D: int) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
+#: tensor index pairs of the Voigt rows: 2D [xx, yy, gamma_xy], 3D [xx, yy, zz, yz, xz, xy]
+_VOIGT_PAIRS = {3: ((0, 0), (1, 1), (0, 1)), 6: ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))}
+
+
 def _strain_tensor(voigt: np.ndarray) -> np.ndarray:
-    """(n, D, D) small-strain tensors from 2D Voigt rows [xx, yy, gamma_xy]."""
-    e = np.zeros((voigt.shape[0], 2, 2))
-    e[:, 0, 0] = voigt[:, 0]
-    e[:, 1, 1] = voigt[:, 1]
-    e[:, 0, 1] = e[:, 1, 0] = 0.5 * voigt[:, 2]
+    """(n, D, D) small-strain tensors from Voigt rows (engineering shear); the 4-row
+    axisymmetric order [rr, zz, rz, tt] gives the in-plane (r, z) tensor."""
+    pairs = _VOIGT_PAIRS[6 if voigt.shape[1] == 6 else 3]
+    D = 3 if voigt.shape[1] == 6 else 2
+    e = np.zeros((voigt.shape[0], D, D))
+    for k, (i, j) in enumerate(pairs):
+        scale = 1.0 if i == j else 0.5
+        e[:, i, j] = e[:, j, i] = scale * voigt[:, k]
     return e
 
 

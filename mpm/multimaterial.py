@@ -49,6 +49,7 @@ from mpm import multimaterial_kernels as _k
 from mpm.multimaterial_constants import (
     HPERP_CODES, LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, N_PARAMS,
     N_SETTINGS, NODE_OUT_COLUMNS, NORMAL_CODES, NORMAL_LR, NORMAL_RMVG, NORMAL_SN,
+    NORMAL_SN_RADIAL,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
     S_SEPARATION, S_SN_X, SEP_LR, SEPARATION_CODES,
@@ -69,6 +70,7 @@ DEFAULT_OPTIONS: dict = {
     "normal": "AVG",              # SN | MVG | AVG | AG | RMVG | LR (AVG: right at free-edge
                                   # nodes where MVG tilts 45 deg, 000 Sec 3; SN when known)
     "normal_vector": None,        # SN: unit normal from the lower to the higher body index
+    "normal_center": None,        # SN: radial normals from this point instead (000 Fig 4C)
     "separation": "displacement",  # displacement (000 Eq 13) | offset (Eq 14) | LR (004 Eq 24)
     "contact_offset": 0.8,        # delta_con = 0.8 h (000 Eq 14 with h = h_perp)
     "area_correction": True,      # 000 Eq 20 (else A_i = Omega_i / h)
@@ -104,6 +106,19 @@ class MultimaterialTables:
     zone_kind: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     zone_params: np.ndarray = field(default_factory=lambda: np.zeros((0, N_PARAMS)))
     body_names: tuple = ()
+    sn_normal: np.ndarray | None = None   # radial SN: per node, from body 0 to the others
+
+    def node_normals(self, N: int, D: int) -> np.ndarray:
+        """The per-node normal buffer [N, M, D] of the step: the radial SN normals
+        (from the lower to the higher body index) or, with LR, zeros for the step to
+        fill; empty otherwise."""
+        M = self.n_materials
+        if self.sn_normal is not None:
+            out = np.zeros((N, M, D))
+            out[:, 0] = self.sn_normal
+            out[:, 1:] = -self.sn_normal[:, None, :]
+            return out
+        return np.zeros((N if self.uses_lr else 0, M, D))
 
     @property
     def n_materials(self) -> int:
@@ -178,6 +193,26 @@ def _merged_options(options: dict | None) -> dict:
     return opts
 
 
+def _radial_normals(opts: dict, node_coordinates, dim: int, m: int) -> np.ndarray:
+    """Unit normals (x_i - c) / |x_i - c| of the nodes about ``normal_center`` c (SN of a
+    spherical or cylindrical inclusion, 000 Sec 3: from body 0, the inclusion, to the
+    others); zero at the centre itself."""
+    c = np.asarray(opts["normal_center"], dtype=float).ravel()
+    if c.size != dim or not np.all(np.isfinite(c)):
+        raise _err(f"mpm option normal_center must be a point of {dim} finite numbers, got "
+                   f"{opts['normal_center']!r}")
+    if opts["normal_vector"] is not None:
+        raise _err("mpm options normal_vector and normal_center exclude each other; give one")
+    if m != 2:
+        raise _err(f"mpm option normal_center (radial SN normals) needs exactly 2 bodies, the "
+                   f"inclusion first; the case has {m}")
+    if node_coordinates is None:
+        raise _err("radial SN normals need node_coordinates in build_pair_tables")
+    r = np.asarray(node_coordinates, dtype=float) - c
+    norm = np.linalg.norm(r, axis=1)
+    return np.ascontiguousarray(r / np.where(norm > 0.0, norm, 1.0)[:, None])
+
+
 def build_pair_tables(case, options: dict | None = None,
                       node_coordinates: np.ndarray | None = None) -> MultimaterialTables:
     """Build the numeric pair tables for one run (Python level, called once).
@@ -217,10 +252,15 @@ def build_pair_tables(case, options: dict | None = None,
     settings[S_CONTACT_OFFSET] = _number("contact_offset", opts["contact_offset"], 0.0, 2.0)
     settings[S_MASS_TOL] = _number("mass_tolerance", opts["mass_tolerance"], 0.0, 1.0e-2)
 
-    if settings[S_NORMAL] == NORMAL_SN:
+    sn_normal = None
+    if settings[S_NORMAL] == NORMAL_SN and opts["normal_center"] is not None:
+        settings[S_NORMAL] = NORMAL_SN_RADIAL
+        sn_normal = _radial_normals(opts, node_coordinates, dim, m)
+    elif settings[S_NORMAL] == NORMAL_SN:
         vec = opts["normal_vector"]
         if vec is None:
-            raise _err("mpm option normal='SN' needs normal_vector (from the lower to the higher body index)")
+            raise _err("mpm option normal='SN' needs normal_vector (from the lower to the higher "
+                       "body index) or normal_center (radial normals)")
         v = np.asarray(vec, dtype=float).ravel()
         if v.size != dim or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0.0:
             raise _err(f"mpm option normal_vector must be a nonzero finite vector of {dim} numbers, got {vec!r}")
@@ -267,7 +307,8 @@ def build_pair_tables(case, options: dict | None = None,
                 if a != r and kind[a, r] == LAW_IMPERFECT and rigid[a]:
                     raise _err("two rigid bodies cannot share an imperfect interface")
 
-    tables = MultimaterialTables(kind, params, settings, rigid, body_names=tuple(names))
+    tables = MultimaterialTables(kind, params, settings, rigid, body_names=tuple(names),
+                                 sn_normal=sn_normal)
     if zone_shapes:
         if node_coordinates is None:
             raise _err("interfaces with zones need node_coordinates in build_pair_tables")

@@ -47,6 +47,7 @@ NORMAL_AVG = 2
 NORMAL_RMVG = 3
 NORMAL_LR = 4
 NORMAL_AG = 5
+NORMAL_SN_RADIAL = 6    # SN about a centre (option normal_center): per-node normals
 NORMAL_CODES = {"SN": NORMAL_SN, "MVG": NORMAL_MVG, "AVG": NORMAL_AVG,
                 "RMVG": NORMAL_RMVG, "LR": NORMAL_LR, "AG": NORMAL_AG}
 

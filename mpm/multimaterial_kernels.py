@@ -139,7 +139,8 @@ def _node_normal(i, a, b_law, g_a, g_b, om_a, om_b, a_rigid, b_rigid, settings, 
     if method == NORMAL_RMVG:
         return normal_rmvg(g_a, g_b, a_rigid, b_rigid, out)
     # NORMAL_LR: precomputed per (node, material) by mpm.multimaterial_lr; where the
-    # regression had no two-class point cloud, fall back to MVG
+    # regression had no two-class point cloud, fall back to MVG. NORMAL_SN_RADIAL: the
+    # fixed radial normals of mpm.multimaterial.MultimaterialTables.node_normals
     s = 0.0
     for k in range(out.shape[0]):
         out[k] = lr_normal[i, a, k]

@@ -2,7 +2,7 @@
 
 Each grid cell overlapping a body is filled with ppc x ppc (x ppc in 3D) particles at
 the centres of the sub-cells; a particle belongs to the body that contains its centre
-(holes excluded). Particle volume = cell volume / ppc^D (x thickness in 2D), mass =
+(holes excluded, clipped by the body's ``within`` shape). Particle volume = cell volume / ppc^D (x thickness in 2D), mass =
 rho x volume. The particle field (= material field of mpm/LAYOUT.md) is the body index.
 """
 from __future__ import annotations
@@ -59,16 +59,13 @@ def generate(case, grid: Grid, ppc) -> Particles:
     xs, fields, masses = [], [], []
     taken = None
     for b, body in enumerate(case.bodies):
-        lo, hi = (np.asarray(a, float) for a in body.shape.bounds())
+        lo, hi = (np.asarray(a, float) for a in body.bounds())
         c0 = np.floor((lo - grid.origin) / grid.cell + 1e-9).astype(np.int64)
         c1 = np.ceil((hi - grid.origin) / grid.cell - 1e-9).astype(np.int64)
         axes = [grid.origin[d] + spacing[d] * (np.arange(c0[d] * ppc[d], c1[d] * ppc[d]) + 0.5)
                 for d in range(D)]
         pts = np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
-        keep = body.shape.contains(pts)
-        for hole in body.holes:
-            keep &= ~hole.contains(pts)
-        pts = pts[keep]
+        pts = pts[body.contains(pts)]
         # order along the flattened node index (x fastest) for cache-friendly scatter/gather
         pts = pts[np.lexsort(pts.T)]
         if taken is not None and taken.size:

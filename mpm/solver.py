@@ -31,10 +31,10 @@ from interfaces.result import Result
 from . import axisymmetric as AX
 from . import checkpoint
 from . import state as S
-from .boundary import nodal_conditions, ramp_code, with_axis_conditions
+from .boundary import ghost_nodes, nodal_conditions, ramp_code, with_axis_conditions
 from .gauges import StressGauges
 from .grid import Grid, NodalFields
-from .measure import interface_profile, line_profiles, stiffness_quantities
+from .measure import bulk_quantities, interface_profile, line_profiles, stiffness_quantities
 from .options import merge
 from .particles import apply_tractions, generate
 from .progress import ProgressBar, compile_notice
@@ -76,9 +76,9 @@ HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc"
 def supports(case) -> str | None:
     """None when MPM can run ``case``, else the one-line reason (used by ``imperfect list``
     and ``--methods all``, so no method is advertised for a case it refuses)."""
-    if case.analysis not in ("plane_stress", "plane_strain", "axisymmetric"):
-        return (f"analysis {case.analysis!r} is not supported yet; the MPM core implements "
-                "plane_stress, plane_strain and axisymmetric")
+    if case.analysis not in ("plane_stress", "plane_strain", "axisymmetric", "3d"):
+        return (f"analysis {case.analysis!r} is not supported; the MPM core implements "
+                "plane_stress, plane_strain, axisymmetric and 3d")
     if case.analysis == "axisymmetric":
         lo, _ = case.bounds()
         if lo[0] < 0.0:
@@ -102,9 +102,10 @@ class Model:
         self.particles = generate(case, self.grid, opts["ppc"])
         if self.kind == SHAPE_CODES["linear"]:
             self.particles.lp[:] = 0.0
-        self.loads = apply_tractions(case, self.particles, 2)
+        D = self.grid.D
+        self.loads = apply_tractions(case, self.particles, D)
         self.M = len(case.bodies)
-        self.nodal = NodalFields(self.grid.N, self.M, 2)
+        self.nodal = NodalFields(self.grid.N, self.M, D)
         mats = [case.materials[b.material] for b in case.bodies]
         self.axisymmetric = case.analysis == "axisymmetric"
         if self.axisymmetric and opts["update"] == "usf":
@@ -120,6 +121,9 @@ class Model:
         if self.M > 1:
             from . import multimaterial as mm
             self.tables = mm.build_pair_tables(case, opts, node_coordinates=self.grid.node_positions())
+            if D == 3 and self.tables.uses_lr:
+                raise CaseError("mpm options normal / separation 'LR' (logistic regression, 004 "
+                                "Eq 19-25) are 2D only; in 3d use normal SN, MVG, AVG or AG")
             self.node_out = np.zeros((self.grid.N, mm.NODE_OUT_COLUMNS))
             rigid = self.tables.rigid.astype(bool)
         if rigid.all():
@@ -132,7 +136,7 @@ class Model:
         # from the deformable bodies (a rigid body's material only sets its mass)
         deformable = [(C, m) for C, m, r in zip(self.C, mats, rigid) if not r]
         c_max = max(m.wave_speed(case.analysis) for _, m in deformable)
-        c_min = min(math.sqrt(min(C[0, 0], C[1, 1]) / m.rho) for C, m in deformable)
+        c_min = min(math.sqrt(min(np.diag(C)[:D]) / m.rho) for C, m in deformable)
         dt_stable = float(np.min(self.grid.cell)) / c_max      # one cell per wave transit
         if opts["dt"] and opts["dt"] > dt_stable:
             raise CaseError(f"mpm option dt = {opts['dt']:.3g} s is above the stable explicit limit "
@@ -158,7 +162,14 @@ class Model:
             raise CaseError(f"mpm time step dt = {self.dt:.3g} s is too long for the grid damping the "
                             f"specimen needs (2 omega = {self.alpha:.3g} 1/s, alpha dt must be <= 0.5): "
                             f"lower dt (or cfl) below {0.5 / self.alpha:.3g} s")
-        self.bcs = nodal_conditions(case, self.grid, self.ramp_time)
+        # particle tails reach one cell beyond the edges of a side (B2 always, uGIMP once
+        # the particles move): with B2 every condition covers that band, in 3D the
+        # symmetry faces do (conditions on the side's normal component only), so that a
+        # symmetry face holds every node of the particles on it; 2D uGIMP / linear runs
+        # keep the side's extent, as their results always had
+        b2 = self.kind == SHAPE_CODES["b2"]
+        self.bcs = nodal_conditions(case, self.grid, self.ramp_time,
+                                    band="all" if b2 else ("normal" if D == 3 else "none"))
         self.axis_nodes = np.zeros(0, np.int64)
         if self.axisymmetric:
             self.axis_nodes = AX.axis_nodes(self.grid.node_positions(), self.grid.cell)
@@ -166,6 +177,12 @@ class Model:
         if rigid.any():
             self.bcs = with_rigid_conditions(case, self.bcs, rigid, self.grid.N, self.grid.D,
                                              self.ramp_time)
+        if self.kind == SHAPE_CODES["b2"]:
+            if opts["update"] == "usf":
+                raise CaseError("mpm option update: 'usf' is not available with shape 'b2' (its "
+                                "symmetry sides fold the internal force before the stress "
+                                "update); use usl, musl or auto")
+            self.bcs.ghosts = ghost_nodes(case, self.grid, self.bcs)
         if opts["update"] == "auto":
             opts["update"] = "usl" if _grid_aligned(case, self.grid) else "musl"
         self.force_limiting = self.tables is None or \
@@ -180,7 +197,9 @@ class Model:
             else self.case.thickness
         return (S.step_control(self), S.particle_state(self.particles, self.axisymmetric,
                                                    self.opts["update"] == "musl"),
-                S.grid_spec(g, self.kind, self.axis_nodes), S.nodal_state(self.nodal),
+                S.grid_spec(g, self.kind, self.axis_nodes),
+                S.nodal_state(self.nodal, self.bcs.ghosts is not None and
+                              self.bcs.ghosts.node.size > 0),
                 S.conditions(self.bcs),
                 S.pair_tables(self.tables, self.node_out, thickness, g.N, self.M, g.D),
                 S.blocks(buffers))
@@ -313,7 +332,7 @@ class _Runner:
             if getattr(self, "block_buffers", None) is None:
                 # particle blocks of the race-free parallel P2G/G2P (mpm/parallel.py)
                 self.block_buffers = BlockBuffers(default_blocks(m.particles.P), m.grid.N,
-                                                  m.M, m.M > 1)
+                                                  m.M, m.M > 1, m.grid.D)
             self.bundles = m.bundles(self.block_buffers)
         hist = np.zeros((nsteps, len(HIST_COLUMNS)))
         over = np.array(self.over_limit, dtype=float)
@@ -596,6 +615,8 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
         for key in _RING_QUANTITIES:
             if key in q:
                 q[key] *= 2.0 * math.pi
+    q.update(bulk_quantities(case, pt, q["strain_energy"] + q["interface_energy"],
+                             2.0 * math.pi if model.axisymmetric else 1.0))
     if run.gauges is not None:
         q.update(run.gauges.quantities())
         res.diagnostics["gauges"] = run.gauges.history()

@@ -59,10 +59,12 @@ class NodalState(NamedTuple):
     position: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
+    real_mass: np.ndarray      # B2 symmetry folds: the masses before the fold (else [0, M])
 
 
 class Conditions(NamedTuple):
-    """Nodal velocity / fixed conditions with their histories (mpm.boundary)."""
+    """Nodal velocity / fixed conditions with their histories, and the reflected ghost
+    nodes of B2 runs (mpm.boundary)."""
     node: np.ndarray
     field: np.ndarray
     comp: np.ndarray
@@ -70,12 +72,22 @@ class Conditions(NamedTuple):
     t_end: np.ndarray
     ramp: np.ndarray
     t_ramp: np.ndarray
+    ghost_node: np.ndarray     # B2 reflected ghost nodes (mpm.boundary.GhostNodes)
+    ghost_field: np.ndarray
+    ghost_comp: np.ndarray
+    ghost_mirror: np.ndarray
+    ghost_ref: np.ndarray
+    ghost_plane: np.ndarray
+    plane_node: np.ndarray
+    plane_field: np.ndarray
+    plane_of: np.ndarray
 
 
 class PairTables(NamedTuple):
     """Multimaterial pair tables (:class:`mpm.multimaterial.MultimaterialTables`), the
     out-of-plane thickness (one value or one per node), the per-node output columns
-    and the LR normal / separation buffers of the current step."""
+    and the per-node normals (LR: of the current step; radial SN: fixed) and LR
+    separations."""
     thickness: np.ndarray
     law_kind: np.ndarray
     law_params: np.ndarray
@@ -136,13 +148,19 @@ def grid_spec(grid, kind: int, axis_nodes: np.ndarray) -> GridSpec:
                     np.ascontiguousarray(axis_nodes, dtype=np.int64))
 
 
-def nodal_state(nd) -> NodalState:
+def nodal_state(nd, folds: bool = False) -> NodalState:
+    """Bundle of :class:`mpm.grid.NodalFields`; ``folds``: the run has B2 symmetry sides."""
+    real_mass = np.zeros((nd.N if folds else 0, nd.M))
     return NodalState(nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
-                      nd.displacement, nd.position, nd.velocity, nd.acceleration)
+                      nd.displacement, nd.position, nd.velocity, nd.acceleration, real_mass)
 
 
 def conditions(bc) -> Conditions:
-    return Conditions(bc.node, bc.field, bc.comp, bc.vel, bc.t_end, bc.ramp, bc.t_ramp)
+    from .boundary import no_ghosts
+    g = bc.ghosts if bc.ghosts is not None else no_ghosts()
+    return Conditions(bc.node, bc.field, bc.comp, bc.vel, bc.t_end, bc.ramp, bc.t_ramp,
+                      g.node, g.field, g.comp, g.mirror, g.ref, g.plane, g.plane_node,
+                      g.plane_field, g.plane_of)
 
 
 def pair_tables(tables, node_out, thickness, N: int, M: int, D: int) -> PairTables:
@@ -161,7 +179,7 @@ def pair_tables(tables, node_out, thickness, N: int, M: int, D: int) -> PairTabl
         node_out = np.zeros((0, NODE_OUT_COLUMNS))
     return PairTables(thick, tables.law_kind, tables.law_params, tables.settings, tables.rigid,
                       tables.node_zone, tables.zone_pairs, tables.zone_kind, tables.zone_params,
-                      node_out, np.zeros((n_lr, M, D)), np.zeros((n_lr, M)))
+                      node_out, tables.node_normals(N, D), np.zeros((n_lr, M)))
 
 
 def blocks(buffers) -> Blocks:

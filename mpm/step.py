@@ -8,7 +8,8 @@ mpm/LAYOUT.md:
 
 1. :func:`phase_p2g`: mass, momentum, internal and external forces (000 Eq 5-6) and,
    with 2+ fields, volumes, volume gradients, displacements, positions (Eq 10-13, 32);
-   axisymmetric runs add the hoop force (:func:`phase_axisymmetric`);
+   axisymmetric runs add the hoop force (:func:`phase_axisymmetric`); B2 runs fold
+   the reflected material of their symmetry sides (:func:`phase_fold`);
 2. :func:`phase_multimaterial_nodes`: the nodes seen by 2+ fields, the nodal
    displacements taken to the node (mpm/extrapolation.py) and, with LR, the logistic-
    regression normals and separations of this particle cloud (004 Eq 19-25);
@@ -40,14 +41,15 @@ from numba import njit
 from .axisymmetric import (hoop_force, hoop_from_motion, hoop_stress_update,
                            interface_volumes, radial_velocity, zero_axis_gradients)
 from .extrapolation import displacement_to_nodes
-from .kernels import (MUSL, USF, USL, grid_update, multimaterial_nodes, nodal_kinematics,
-                      p2g_internal_force_2d, p2g_momentum_2d, ramp, set_velocity_bc,
-                      step_velocities, stress_from_grid_2d)
+from .kernels import (MUSL, USF, USL, fold_ghosts, grid_update, multimaterial_nodes,
+                      nodal_kinematics, p2g_internal_force_2d, p2g_momentum_2d, ramp,
+                      reflect_ghosts, set_velocity_bc, step_velocities, stress_from_grid_2d)
 from .multimaterial_constants import OUT_STATUS, STATUS_OVER_LIMIT
 from .multimaterial_kernels import (bonded_velocity_bc_kernel, correct_momentum_kernel,
                                     interface_forces_kernel)
 from .multimaterial_lr import lr_kernel
-from .parallel import g2p_blocks_2d, p2g_blocks_2d
+from .kernels3d import p2g_internal_force_3d, p2g_momentum_3d, stress_from_grid_3d
+from .parallel import g2p_blocks, p2g_blocks
 
 _OVER_LIMIT = int(STATUS_OVER_LIMIT)
 
@@ -57,12 +59,12 @@ def phase_p2g(pt, grid, nd, blocks, scale, multi, internal) -> int:
     """Step 1: P2G over the particle blocks (race-free, mpm/parallel.py). ``internal``
     False (USF) leaves the internal force for after the stress update. Returns the
     index of a particle outside the grid, or -1."""
-    return p2g_blocks_2d(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
-                         pt.foff, scale, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
-                         multi, internal, nd.mass, nd.momentum, nd.force, nd.volume,
-                         nd.volume_gradient, nd.displacement, nd.position, blocks.mass,
-                         blocks.mom, blocks.force, blocks.volume, blocks.volgrad, blocks.disp,
-                         blocks.pos)
+    return p2g_blocks(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
+                      pt.foff, scale, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
+                      multi, internal, nd.mass, nd.momentum, nd.force, nd.volume,
+                      nd.volume_gradient, nd.displacement, nd.position, blocks.mass,
+                      blocks.mom, blocks.force, blocks.volume, blocks.volgrad, blocks.disp,
+                      blocks.pos)
 
 
 @njit(cache=True, inline="always")
@@ -124,9 +126,24 @@ def phase_stress(ctl, pt, grid, nd, x) -> float:
     """Stress update from the nodal momenta with the shape functions at positions ``x``
     (USF: before the update, at the particles; MUSL: after the re-extrapolation, at the
     start-of-step positions); returns the strain energy."""
+    if x.shape[1] == 3:
+        return stress_from_grid_3d(x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
+                                   ctl.C, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
+                                   ctl.dt, nd.mass, nd.momentum)
     return stress_from_grid_2d(x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                                ctl.C, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind, ctl.dt,
                                nd.mass, nd.momentum)
+
+
+@njit(cache=True, inline="always")
+def phase_internal_force(pt, grid, nd) -> None:
+    """USF: the internal force -V sigma . grad S from the updated stress."""
+    if pt.x.shape[1] == 3:
+        p2g_internal_force_3d(pt.x, pt.volume, pt.stress, pt.field, grid.origin, grid.cell,
+                              grid.nn, pt.lp, grid.kind, nd.force)
+    else:
+        p2g_internal_force_2d(pt.x, pt.volume, pt.stress, pt.field, grid.origin, grid.cell,
+                              grid.nn, pt.lp, grid.kind, nd.force)
 
 
 @njit(cache=True, inline="always")
@@ -166,19 +183,46 @@ def phase_bonded_conditions(ctl, nd, bc, pairs, vel, with_force) -> float:
     bonded to them after a contact correction; returns the reactions' work."""
     if bc.vel.size == 0:
         return 0.0
-    return bonded_velocity_bc_kernel(nd.mass, nd.momentum, nd.force, bc.node, bc.field,
+    work = bonded_velocity_bc_kernel(nd.mass, nd.momentum, nd.force, bc.node, bc.field,
                                      bc.comp, vel, pairs.law_kind, pairs.law_params,
                                      pairs.settings, pairs.node_zone, pairs.zone_pairs,
                                      pairs.zone_kind, pairs.zone_params, ctl.dt, with_force)
+    return work + phase_ghosts(ctl, nd, bc, vel, with_force)
 
 
 @njit(cache=True, inline="always")
-def phase_grid_update(ctl, alpha, t, nd, bc, vel):
-    """Step 6: grid damping, p+ = p + f dt, nodal velocity conditions at time t (their
-    histories, :func:`mpm.kernels.step_velocities`); returns (dissipated, work_bc)."""
-    step_velocities(t, ctl.dt, bc.vel, bc.t_end, bc.ramp, bc.t_ramp, vel)
-    return grid_update(nd.mass, nd.momentum, nd.force, ctl.dt, alpha, bc.node, bc.field,
-                       bc.comp, vel)
+def phase_fold(nd, bc, vel, with_force) -> None:
+    """B2 runs: the reflected material of the symmetry sides folded onto the nodes
+    inside after an extrapolation, and the ghosts given the reflected velocities
+    (:class:`mpm.boundary.GhostNodes`)."""
+    if bc.ghost_node.size == 0:
+        return
+    fold_ghosts(nd.mass, nd.momentum, nd.force, bc.ghost_node, bc.ghost_field, bc.ghost_comp,
+                bc.ghost_mirror, bc.ghost_ref, bc.ghost_plane, bc.plane_node, bc.plane_field,
+                bc.plane_of, vel, with_force, nd.real_mass)
+    reflect_ghosts(nd.mass, nd.momentum, nd.force, 1.0, bc.ghost_node, bc.ghost_field,
+                   bc.ghost_comp, bc.ghost_mirror, bc.ghost_ref, vel, False, nd.real_mass)
+
+
+@njit(cache=True, inline="always")
+def phase_ghosts(ctl, nd, bc, vel, with_force) -> float:
+    """B2 runs: the ghost nodes beyond the sides reflected from their mirror nodes
+    (:class:`mpm.boundary.GhostNodes`), after every imposition of the conditions;
+    returns the reactions' work."""
+    if bc.ghost_node.size == 0:
+        return 0.0
+    return reflect_ghosts(nd.mass, nd.momentum, nd.force, ctl.dt, bc.ghost_node, bc.ghost_field,
+                          bc.ghost_comp, bc.ghost_mirror, bc.ghost_ref, vel, with_force,
+                          nd.real_mass)
+
+
+@njit(cache=True, inline="always")
+def phase_grid_update(ctl, alpha, nd, bc, vel):
+    """Step 6: grid damping, p+ = p + f dt, nodal velocity conditions ``vel`` of the
+    step; returns (dissipated, work_bc)."""
+    diss, wbc = grid_update(nd.mass, nd.momentum, nd.force, ctl.dt, alpha, bc.node, bc.field,
+                            bc.comp, vel, nd.real_mass)
+    return diss, wbc + phase_ghosts(ctl, nd, bc, vel, True)
 
 
 @njit(cache=True, inline="always")
@@ -193,7 +237,7 @@ def phase_g2p(ctl, pt, grid, nd, blocks, scale):
     if hoop:
         pt.r_before[:] = pt.x[:, 0]
         pt.strain_before[:] = pt.strain
-    ke, U, work, lost, ke_grid = g2p_blocks_2d(
+    ke, U, work, lost, ke_grid = g2p_blocks(
         blocks.mass.shape[0], pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain,
         pt.field, pt.fext, pt.foff, scale, ctl.C, grid.origin, grid.cell, grid.nn, pt.lp,
         grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity, nd.acceleration)
@@ -213,9 +257,15 @@ def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes) -> float:
     contact correction on ``nodes`` applied to them, then the strain increment from them
     with the same shape-function gradients; returns the strain energy."""
     x = pt.x_before
-    p2g_momentum_2d(x, pt.v, pt.mass, pt.field, grid.origin, grid.cell, grid.nn, pt.lp,
-                    grid.kind, nd.mass, nd.momentum)
+    if x.shape[1] == 3:
+        p2g_momentum_3d(x, pt.v, pt.mass, pt.field, grid.origin, grid.cell, grid.nn, pt.lp,
+                        grid.kind, nd.mass, nd.momentum)
+    else:
+        p2g_momentum_2d(x, pt.v, pt.mass, pt.field, grid.origin, grid.cell, grid.nn, pt.lp,
+                        grid.kind, nd.mass, nd.momentum)
+    phase_fold(nd, bc, vel, False)
     set_velocity_bc(nd.mass, nd.momentum, bc.node, bc.field, bc.comp, vel)
+    phase_ghosts(ctl, nd, bc, vel, False)
     if nodes.size:
         phase_contact(0, ctl, grid, nd, pairs, nodes)
         phase_bonded_conditions(ctl, nd, bc, pairs, vel, False)
@@ -253,11 +303,14 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
     particle that left the grid, or -1."""
     multi_fields = nd.mass.shape[1] > 1
     scale = ramp(t, ctl.ramp_time, ctl.ramp_code)
+    # the nodal conditions' velocities for t -> t + dt (their histories)
+    step_velocities(t, ctl.dt, bc.vel, bc.t_end, bc.ramp, bc.t_ramp, vel)
     lost = phase_p2g(pt, grid, nd, blocks, scale, multi_fields, ctl.mode != USF)
     if lost >= 0:
         return lost
     if ctl.axisymmetric:
         phase_axisymmetric(pt, grid, nd, pairs)
+    phase_fold(nd, bc, vel, True)
     nodes = phase_multimaterial_nodes(ctl, pt, grid, nd, pairs) if multi_fields \
         else np.empty(0, np.int64)
     multi = nodes.size > 0
@@ -265,12 +318,11 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
         phase_contact(0, ctl, grid, nd, pairs, nodes)
     if ctl.mode == USF:
         phase_stress(ctl, pt, grid, nd, pt.x)
-        p2g_internal_force_2d(pt.x, pt.volume, pt.stress, pt.field, grid.origin, grid.cell,
-                              grid.nn, pt.lp, grid.kind, nd.force)
+        phase_internal_force(pt, grid, nd)
     u_int = 0.0
     if multi and ctl.with_interface:
         u_int = phase_interface_forces(ctl, t, grid, nd, pairs, nodes, over_limit)
-    diss, wbc = phase_grid_update(ctl, alpha, t, nd, bc, vel)
+    diss, wbc = phase_grid_update(ctl, alpha, nd, bc, vel)
     if multi:
         phase_contact(1, ctl, grid, nd, pairs, nodes)
         wbc += phase_bonded_conditions(ctl, nd, bc, pairs, vel, True)

@@ -72,8 +72,8 @@ def test_compare_relative_differences_against_reference():
 def test_run_exit_code_when_a_requested_method_does_not_run(tmp_path, capsys):
     """A method that cannot run the case is refused up front (exit 2); one that fails
     while the others ran gives exit 3 with the others' outputs written."""
-    assert main(["run", "particulate", "--methods", "analytic,mpm", "--out", str(tmp_path / "p")]) == 2
-    assert "mpm: analysis '3d' is not supported" in capsys.readouterr().err
+    assert main(["run", "particulate", "--methods", "analytic,cpd", "--out", str(tmp_path / "p")]) == 2
+    assert "method 'cpd' does not support case 'particulate'" in capsys.readouterr().err
     assert main(["run", "dls", "--methods", "analytic,fem", "--option", "fem.solver=nonsense",
                  "--out", str(tmp_path / "d")]) == 3
     err = capsys.readouterr().err
@@ -81,7 +81,14 @@ def test_run_exit_code_when_a_requested_method_does_not_run(tmp_path, capsys):
     assert (tmp_path / "d" / "results.json").exists()
 
 
-def test_list_advertises_only_methods_that_run(capsys):
+def test_list_advertises_only_methods_that_run(capsys, monkeypatch):
+    """3D MPM runs the particulate composite, so the list shows it; a method whose
+    package refuses a case (its ``supports``) is not advertised for it."""
+    import mpm
+    assert main(["list"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("particulate"))
+    assert "mpm" in line
+    monkeypatch.setattr(mpm, "supports", lambda case: "not this one" if case.analysis == "3d" else None)
     assert main(["list"]) == 0
     line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("particulate"))
     assert "mpm" not in line

@@ -203,9 +203,6 @@ def test_solve_rejects_bad_options_naming_the_field():
         mpm.solve(case, cell=0.5, damping="lots")
     with pytest.raises(CaseError, match="cfl"):
         mpm.solve(case, cell=0.5, cfl=2.0)
-    from cases.library import cuboid
-    with pytest.raises(CaseError, match="analysis '3d' is not supported yet"):
-        mpm.solve(cuboid(), cell=0.5)
 
 
 def test_time_step_above_the_explicit_limit_is_refused_naming_it():
