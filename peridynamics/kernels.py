@@ -268,6 +268,22 @@ def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, slots, s0, data):
 
 
 @njit(cache=True)
+def dof_columns(rowptr, cols, d, indptr):
+    """Column indices (int32) of the DOF-level CSR of the block pattern (``rowptr``, ``cols``
+    node-level; ``indptr`` the DOF-level row pointer): DOF row a*d + al holds, for every
+    block column b of node row a, the columns b*d .. b*d + d-1."""
+    out = np.empty(indptr[-1], np.int32)
+    for a in range(rowptr.shape[0] - 1):
+        for al in range(d):
+            k = indptr[a * d + al]
+            for e in range(rowptr[a], rowptr[a + 1]):
+                for be in range(d):
+                    out[k] = cols[e] * d + be
+                    k += 1
+    return out
+
+
+@njit(cache=True)
 def block_slots(centers, nptr, nidx, rowptr, cols):
     """Where each block of each central point's local tangent goes in the fixed pattern.
 

@@ -19,65 +19,21 @@ triangular solves.
 """
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator, gmres
 
 from interfaces.errors import SolverError
 from interfaces.sparse import DirectSolver, SingularMatrixError
 
 from .assembly import CPDSystem
+from .reduction import ReducedMatrix
 
-
-class ReducedMatrix:
-    """K_ff over the free independent DOFs, refilled from the fixed pattern's CSR data.
-
-    The map from the full block-CSR data (node DOFs) to the reduced CSR (free independent
-    DOFs, see :class:`~peridynamics.assembly.DofMap`) is built once; each Newton
-    iteration is one gather (or one scatter-add where the compliant overlap identifies
-    DOFs), so the reduced matrix keeps one sparsity pattern for the whole solve and the
-    direct solver's symbolic analysis is reused.
-    """
-
-    def __init__(self, system: CPDSystem, free: np.ndarray):
-        pat = system.pattern
-        nf = len(free)
-        pos = np.full(system.dofs.n, -1, dtype=np.int64)
-        pos[free] = np.arange(nf)
-        index = system.dofs.index
-        rows = np.repeat(np.arange(len(pat.indptr) - 1, dtype=np.int64), np.diff(pat.indptr))
-        r = pos[index[rows]]
-        c = pos[index[pat.indices.astype(np.int64)]]
-        keep = np.flatnonzero((r >= 0) & (c >= 0))
-        key = r[keep] * nf + c[keep]
-        del rows, r, c
-        order = np.argsort(key, kind="stable")
-        key = key[order]
-        first = np.ones(len(key), dtype=bool)
-        first[1:] = key[1:] != key[:-1]
-        ukey = key[first]
-        self.indices = (ukey % nf).astype(np.int32)
-        self.indptr = np.zeros(nf + 1, dtype=np.int64)
-        np.cumsum(np.bincount(ukey // nf, minlength=nf), out=self.indptr[1:])
-        self.shape = (nf, nf)
-        self.injective = bool(first.all())
-        if self.injective:
-            self.gather = keep[order]
-        else:
-            self.source = keep[order]
-            self.target = np.cumsum(first) - 1
-
-    def __call__(self, data: np.ndarray, out: np.ndarray | None = None) -> sp.csr_matrix:
-        """K_ff from the full pattern's ``data``; ``out`` (len(indices)) receives the values
-        of an injective map instead of a new array (shared with the returned matrix)."""
-        if self.injective:
-            vals = np.take(data, self.gather, out=out) if out is not None else data[self.gather]
-        else:
-            vals = np.bincount(self.target, weights=data[self.source], minlength=len(self.indices))
-        return sp.csr_matrix((vals, self.indices, self.indptr), shape=self.shape)
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -92,6 +48,9 @@ class NewtonOptions:
     line_search: bool = True
     reuse_factorization: bool = True
     extrapolate: bool = True
+    #: receives one line per evaluation, Newton iteration and line-search trial (residual,
+    #: wall time); None sends them to the ``peridynamics.newton`` logger at INFO level
+    report: Callable[[str], None] | None = None
 
 
 @dataclass
@@ -190,6 +149,12 @@ class TangentSolver:
         self.definite = self.direct.negative_pivots() == 0
         self.stats["factorizations"] += 1
         self.times["factorization"] += time.perf_counter() - t0
+
+    def summary(self) -> str:
+        """Factorisations and Krylov iterations so far (one line of the progress report)."""
+        st = self.stats
+        return (f"{st['factorizations']} factorisations, {st['krylov_iterations']} Krylov iterations "
+                f"in {st['krylov_solves']} solves")
 
     def _back(self, r):
         t0 = time.perf_counter()
@@ -302,10 +267,18 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     tangent_buffer = np.empty(system.pattern.nnz)
     reduced_buffer = np.empty(len(red.indices)) if red.injective else None
 
+    say = opts.report or log.info
+    t_solve = time.perf_counter()
+
+    def note(msg):
+        say(f"CPD Newton [{time.perf_counter() - t_solve:8.1f} s] {msg}")
+
     def evaluate(v, tangent):
         t0 = time.perf_counter()
         ev = system.evaluate(dofs.expand(v), tangent, out=tangent_buffer if tangent else None)
-        t["assembly" if tangent else "line_search"] += time.perf_counter() - t0
+        dt = time.perf_counter() - t0
+        t["assembly" if tangent else "line_search"] += dt
+        note(f"  {'residual + tangent' if tangent else 'residual only'} evaluated in {dt:.1f} s")
         return ev
 
     def residual(ev):
@@ -347,6 +320,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             if scale is None or not scale > 0:
                 scale = max(rn, 1e-300)
             res_hist.append(rn / scale)
+            note(f"load {lam1:.4g} iteration {it}: normalised residual {rn / scale:.3e}")
             if rn <= opts.tol * scale or rn == 0.0:
                 return v, res_hist, ev, (steps, times)
             if it == opts.max_iter:
@@ -360,6 +334,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             except RuntimeError as e:
                 return fail(f"singular tangent ({e})")
             t["linear_solve"] += time.perf_counter() - t0
+            note(f"  linear solve in {time.perf_counter() - t0:.1f} s ({lin.summary()}, asked {eta:.1e})")
             if not np.all(np.isfinite(du)):
                 return fail("non-finite Newton increment (singular tangent)")
             # full Newton step, evaluated with the tangent (reused by the next iteration
@@ -377,11 +352,15 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                     et = evaluate(trial, trial_no == 0 and with_tangent)
                 except ValueError as e:          # points collapsed: shorten the step
                     why = f"line search: {e}"
+                    note(f"  trial step {alpha:g} rejected: {e}")
                     alpha *= 0.5
                     continue
                 rt = np.linalg.norm(residual(et)[free] - lam1 * fext[free])
                 wt = et.energy - lam1 * float(fext[free] @ trial[free])
-                if not opts.line_search or (np.isfinite(rt) and (rt < rn or wt <= w0)):
+                ok = not opts.line_search or (np.isfinite(rt) and (rt < rn or wt <= w0))
+                note(f"  trial step {alpha:g}: normalised residual {rt / scale:.3e}, energy change "
+                     f"{wt - w0:.3e} ({'accepted' if ok else 'rejected'})")
+                if ok:
                     accepted = (trial, et)
                     break
                 alpha *= 0.5
@@ -411,6 +390,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                     f"CPD Newton-Raphson did not converge to tol = {opts.tol:g} at load factor {f.load:.4g} "
                     f"after {opts.max_cuts} step cuts (failing step: {f.reason}; its normalised residuals "
                     f"[{hist}]); {_advice(f)}")
+            note(f"load {target:.4g} failed ({got.reason}): bisected")
             targets.insert(0, 0.5 * (lam + target))      # bisect the step
             continue
         u, hist, ev, (alphas, times) = got
