@@ -259,6 +259,9 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     out = NewtonOutcome(u=u)
     lin = TangentSolver(reuse=opts.reuse_factorization, kind=solver)
     prev = {"u": None, "lam": 0.0}
+    # largest r_(k+1) / r_k^2 seen in the solve (1e-2 before any): a near-singular tangent (the
+    # soft surface modes of a C3 < 0 material) raises it by orders of magnitude
+    contraction = [1e-2]
     t = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
     failures: list[StepFailure] = []
 
@@ -338,9 +341,14 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             if not np.all(np.isfinite(du)):
                 return fail("non-finite Newton increment (singular tangent)")
             # full Newton step, evaluated with the tangent (reused by the next iteration
-            # when accepted) unless the step is expected to converge (the forcing term is
-            # at its tol floor); backtracking with energy-only evaluations otherwise
-            with_tangent = 1e-2 * (rn / scale) ** 2 > 0.1 * opts.tol
+            # when accepted) unless the step is expected to converge: the next residual
+            # predicted from the quadratic constant seen so far is below 0.1 tol (the
+            # forcing term is then at its tol floor); backtracking with energy-only
+            # evaluations otherwise
+            r_now = rn / scale
+            if len(res_hist) > 1 and res_hist[-2] > 0:
+                contraction[0] = max(contraction[0], r_now / res_hist[-2] ** 2)
+            with_tangent = contraction[0] * r_now ** 2 > 0.1 * opts.tol
             w0 = ev.energy - lam1 * float(fext[free] @ v[free])
             alpha = 1.0
             accepted = None
