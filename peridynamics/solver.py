@@ -31,8 +31,9 @@ from .parameters import calibrate, cpd_from_lame, lattice_ratios
 #: tuple count per tangent evaluation above which :func:`solve` warns about the run time
 TUPLE_WARNING = 3e8
 #: measured one-core tangent time per tuple of :func:`estimate_tuples` (an upper bound: the
-#: kernels evaluate ~60 % of them), 2D triples and 3D quadruples alike (bench_cpd, cuboid)
-SECONDS_PER_TUPLE = 6e-8
+#: kernels evaluate ~60 % of them): 3D quadruples 3.3e-8 s (0.6 x 0.45 x 0.45 cuboid,
+#: benchmarks/bench_cpd_cuboid.py), 2D triples about the same (bench_cpd)
+SECONDS_PER_TUPLE = 3.5e-8
 
 OPTIONS = ("h", "delta_factor", "overlap", "load_steps", "tol", "max_iter", "calibration",
            "constants", "line_search", "grid", "solver", "progress")
