@@ -165,6 +165,20 @@ def _add_sandwich(Kloc, r0, c0, sgn, M, u, v):
 
 
 @njit(cache=True)
+def _add_outer_cross(Kloc, r, c, g0, g1, g2, t0, t1, t2, v0, v1, v2):
+    """Kloc[r:r+3, c:c+3] += g t^T + [v]x (one off-diagonal block of a quadruple)."""
+    Kloc[r, c] += g0 * t0
+    Kloc[r, c + 1] += g0 * t1 - v2
+    Kloc[r, c + 2] += g0 * t2 + v1
+    Kloc[r + 1, c] += g1 * t0 + v2
+    Kloc[r + 1, c + 1] += g1 * t1
+    Kloc[r + 1, c + 2] += g1 * t2 - v0
+    Kloc[r + 2, c] += g2 * t0 - v1
+    Kloc[r + 2, c + 1] += g2 * t1 + v0
+    Kloc[r + 2, c + 2] += g2 * t2
+
+
+@njit(cache=True)
 def _quadruples_3d(Kloc, f_loc, e_loc, xi, Xi, Ln, D2, nodes, vol, wC, p, r2, kcc):
     """psi3 of the 3D quadruples (p, a, b, c), a < b < c local neighbours: energy, gradient
     (into f_loc) and Hessian (into the upper neighbour blocks of Kloc unless it is empty);
@@ -277,37 +291,11 @@ def _quadruples_3d(Kloc, f_loc, e_loc, xi, Xi, Ln, D2, nodes, vol, wC, p, r2, kc
                 t1 = d2 * gc1
                 t2 = d2 * gc2
                 # (a, c) = d2 g_a g_c^T + d1 [xi_b]x, g_a = xi_b x xi_c
-                ga0 = xb1 * xc2 - xb2 * xc1
-                ga1 = xb2 * xc0 - xb0 * xc2
-                ga2 = xb0 * xc1 - xb1 * xc0
-                v0 = d1 * xb0
-                v1 = d1 * xb1
-                v2 = d1 * xb2
-                Kloc[ra, rc] += ga0 * t0
-                Kloc[ra, rc + 1] += ga0 * t1 - v2
-                Kloc[ra, rc + 2] += ga0 * t2 + v1
-                Kloc[ra + 1, rc] += ga1 * t0 + v2
-                Kloc[ra + 1, rc + 1] += ga1 * t1
-                Kloc[ra + 1, rc + 2] += ga1 * t2 - v0
-                Kloc[ra + 2, rc] += ga2 * t0 - v1
-                Kloc[ra + 2, rc + 1] += ga2 * t1 + v0
-                Kloc[ra + 2, rc + 2] += ga2 * t2
+                _add_outer_cross(Kloc, ra, rc, xb1 * xc2 - xb2 * xc1, xb2 * xc0 - xb0 * xc2,
+                                 xb0 * xc1 - xb1 * xc0, t0, t1, t2, d1 * xb0, d1 * xb1, d1 * xb2)
                 # (b, c) = d2 g_b g_c^T - d1 [xi_a]x, g_b = xi_c x xi_a
-                gb0 = xc1 * xa2 - xc2 * xa1
-                gb1 = xc2 * xa0 - xc0 * xa2
-                gb2 = xc0 * xa1 - xc1 * xa0
-                v0 = d1 * xa0
-                v1 = d1 * xa1
-                v2 = d1 * xa2
-                Kloc[rb, rc] += gb0 * t0
-                Kloc[rb, rc + 1] += gb0 * t1 + v2
-                Kloc[rb, rc + 2] += gb0 * t2 - v1
-                Kloc[rb + 1, rc] += gb1 * t0 - v2
-                Kloc[rb + 1, rc + 1] += gb1 * t1
-                Kloc[rb + 1, rc + 2] += gb1 * t2 + v0
-                Kloc[rb + 2, rc] += gb2 * t0 + v1
-                Kloc[rb + 2, rc + 1] += gb2 * t1 - v0
-                Kloc[rb + 2, rc + 2] += gb2 * t2
+                _add_outer_cross(Kloc, rb, rc, xc1 * xa2 - xc2 * xa1, xc2 * xa0 - xc0 * xa2,
+                                 xc0 * xa1 - xc1 * xa0, t0, t1, t2, -d1 * xa0, -d1 * xa1, -d1 * xa2)
             if not any_c:
                 continue
             # gradients of the pair: sum_c d1 g_a = xi_b x m1, sum_c d1 g_b = m1 x xi_a
