@@ -233,6 +233,10 @@ def _advice(f: StepFailure) -> str:
     if "singular" in f.reason.lower():
         return ("check that the prescribed displacements remove every rigid-body motion of every body "
                 "(a debonded interface, Dn = Dt = 0, leaves a body free)")
+    if "indefinite" in f.reason:
+        return ("the state is unstable (negative tangent eigenvalues: in 3D the free faces of a material "
+                "with C3 < 0, i.e. nu < 1/4, soften and the Newton step leaves the quadratic basin); "
+                "increase load_steps, shrink the free faces, or use nu >= 1/4 (or Dn, Dt > 0)")
     if "max_iter" in f.reason:
         return "increase load_steps or max_iter, or loosen tol"
     return "increase load_steps, loosen tol, or check for points crushed by a too-large deformation"
@@ -298,6 +302,8 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
         scale = None
 
         def fail(reason):
+            if lin.factored and not lin.definite:
+                reason += f"; tangent indefinite ({lin.direct.negative_pivots()} negative pivots)"
             return StepFailure(lam1, res_hist, reason)
 
         if opts.extrapolate and prev["u"] is not None and lam0 > prev["lam"]:

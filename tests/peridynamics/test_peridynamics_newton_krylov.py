@@ -126,3 +126,12 @@ def test_progress_lines_report_every_evaluation_iteration_and_trial(capsys, capl
     assert capsys.readouterr().err == "" and sum("normalised residual" in r.message for r in caplog.records) >= len(hist)
     with pytest.raises(Exception, match="cpd.progress"):
         peridynamics.solve(case, h=0.1, progress="yes")
+
+
+def test_an_indefinite_failing_step_says_the_state_is_unstable():
+    from peridynamics.newton import StepFailure, _advice
+
+    f = StepFailure(1.0, [1.0, 0.19], "line search found no decrease; tangent indefinite (208 negative pivots)")
+    assert "unstable" in _advice(f) and "load_steps" in _advice(f)
+    assert "unstable" not in _advice(StepFailure(1.0, [1.0], "line search found no decrease"))
+    assert "rigid-body" in _advice(StepFailure(1.0, [1.0], "singular tangent (x); tangent indefinite (3 negative pivots)"))
