@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from .kernels import assemble_blocks, block_slots, horizon_radius2, within
+from .kernels import assemble_blocks, block_slots, dof_columns, horizon_radius2, within
 
 
 @dataclass
@@ -106,12 +106,7 @@ class Pattern:
         row_len = np.repeat(nb * d, d)                      # per dof row
         self.indptr = np.zeros(self.n_nodes * d + 1, dtype=np.int64)
         np.cumsum(row_len, out=self.indptr[1:])
-        # dof row r = a*d + al holds, for every block column b of node row a, the
-        # columns b*d .. b*d + d-1; entry t of row r is entry rowptr[a]*d + t of blk_cols
-        blk_cols = np.repeat(self.cols, d) * d + np.tile(np.arange(d), len(self.cols))
-        seg_start = np.repeat(self.rowptr[:-1] * d, d)
-        idx = np.repeat(seg_start - self.indptr[:-1], row_len) + np.arange(self.indptr[-1])
-        self.indices = blk_cols[idx].astype(np.int32)
+        self.indices = dof_columns(self.rowptr, self.cols, d, self.indptr)
 
     @property
     def nnz(self) -> int:

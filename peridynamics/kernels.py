@@ -150,53 +150,207 @@ def _triple_2d(Kloc, f_loc, xi, a, b, w, A):
 
 
 @njit(cache=True)
-def _quad_hessian(Kloc, g, d1, d2, xi, a, b, c):
-    """Hessian of psi3 for the 3D quadruple (p, a, b, c), added to the neighbour slots of Kloc.
+def _add_sandwich(Kloc, r0, c0, sgn, M, u, v):
+    """Kloc[r0:r0+3, c0:c0+3] += sgn [u]x M [v]x^T for the symmetric 3 x 3 ``M`` ([u]x w = u x w):
+    T = [u]x M column by column, then row i of the result is v x (row i of T)."""
+    T = np.empty((3, 3))
+    for j in range(3):
+        T[0, j] = u[1] * M[2, j] - u[2] * M[1, j]
+        T[1, j] = u[2] * M[0, j] - u[0] * M[2, j]
+        T[2, j] = u[0] * M[1, j] - u[1] * M[0, j]
+    for i in range(3):
+        Kloc[r0 + i, c0] += sgn * (v[1] * T[i, 2] - v[2] * T[i, 1])
+        Kloc[r0 + i, c0 + 1] += sgn * (v[2] * T[i, 0] - v[0] * T[i, 2])
+        Kloc[r0 + i, c0 + 2] += sgn * (v[0] * T[i, 1] - v[1] * T[i, 0])
 
-    With s = (xi_a x xi_b) . xi_c, ``g`` (3, 3) = ds/dxi_m, d1 = dpsi/ds, d2 = d2psi/ds2:
-    block (m, n) = d2 g_m g_n^T + d1 d2s/dxi_m dxi_n, where d2s/dxi_a dxi_b = -[xi_c]x,
-    d2s/dxi_a dxi_c = [xi_b]x, d2s/dxi_b dxi_c = -[xi_a]x ([v]x w = v x w), and block
-    (n, m) is the transpose of block (m, n). Written in place (no 3 x 3 x 3 x 3 temporary),
-    upper blocks only (a < b < c): the lower ones follow once per central point in
-    :func:`_mirror_upper`, which keeps the inner loop over c in the rows of a and b.
+
+@njit(cache=True)
+def _add_outer_cross(Kloc, r, c, g0, g1, g2, t0, t1, t2, v0, v1, v2):
+    """Kloc[r:r+3, c:c+3] += g t^T + [v]x (one off-diagonal block of a quadruple)."""
+    Kloc[r, c] += g0 * t0
+    Kloc[r, c + 1] += g0 * t1 - v2
+    Kloc[r, c + 2] += g0 * t2 + v1
+    Kloc[r + 1, c] += g1 * t0 + v2
+    Kloc[r + 1, c + 1] += g1 * t1
+    Kloc[r + 1, c + 2] += g1 * t2 - v0
+    Kloc[r + 2, c] += g2 * t0 - v1
+    Kloc[r + 2, c + 1] += g2 * t1 + v0
+    Kloc[r + 2, c + 2] += g2 * t2
+
+
+@njit(cache=True)
+def _quadruples_3d(Kloc, f_loc, e_loc, xi, Xi, Ln, D2, nodes, vol, wC, p, r2, kcc):
+    """psi3 of the 3D quadruples (p, a, b, c), a < b < c local neighbours: energy, gradient
+    (into f_loc) and Hessian (into the upper neighbour blocks of Kloc unless it is empty);
+    returns (energy, quadruples evaluated). ``wC`` = V_p C3, ``kcc`` a work array (6 n).
+
+    With s = (xi_a x xi_b) . xi_c, dpsi/ds = d1, d2psi/ds2 = d2, the gradients are
+    g_a = xi_b x xi_c, g_b = xi_c x xi_a, g_c = xi_a x xi_b, and block (m, n) of the
+    Hessian is d2 g_m g_n^T + d1 d2s/dxi_m dxi_n with d2s/dxi_a dxi_b = -[xi_c]x,
+    d2s/dxi_a dxi_c = [xi_b]x, d2s/dxi_b dxi_c = -[xi_a]x ([v]x w = v x w). For fixed
+    (a, b) the sums over c of the blocks (a, a), (b, b), (a, b) need only
+    M = sum d2 xi_c xi_c^T and m1 = sum d1 xi_c: (a, a) = [xi_b]x M [xi_b]x^T,
+    (b, b) = [xi_a]x M [xi_a]x^T, (a, b) = -[xi_b]x M [xi_a]x^T - [m1]x, and the gradients
+    sum to xi_b x m1 and m1 x xi_a; they are added once per pair. Per quadruple only the
+    blocks (a, c), (b, c) (rows of a and b) and the (c, c) coefficients (on g_c g_c^T,
+    fixed per pair, accumulated in ``kcc``) remain. The triple loop skips the tuples of
+    vanishing reference volume and those counted at a lower-numbered vertex (see
+    :func:`assemble`).
     """
-    s = (3 * (a + 1), 3 * (b + 1), 3 * (c + 1))
-    for m in range(3):
-        rm = s[m]
-        for al in range(3):
-            gm = d2 * g[m, al]
-            for be in range(3):
-                Kloc[rm + al, rm + be] += gm * g[m, be]
-    for pair in range(3):
-        if pair == 0:
-            m, n, t, e = 0, 1, c, -d1
-        elif pair == 1:
-            m, n, t, e = 0, 2, b, d1
-        else:
-            m, n, t, e = 1, 2, a, -d1
-        rm = s[m]
-        rn = s[n]
-        v0 = e * xi[t, 0]
-        v1 = e * xi[t, 1]
-        v2 = e * xi[t, 2]
-        for al in range(3):
-            gm = d2 * g[m, al]
-            for be in range(3):
-                val = gm * g[n, be]
-                Kloc[rm + al, rn + be] += val
-        # e [xi_t]x = [[0, -v2, v1], [v2, 0, -v0], [-v1, v0, 0]] at (m, n)
-        Kloc[rm, rn + 1] -= v2
-        Kloc[rm, rn + 2] += v1
-        Kloc[rm + 1, rn] += v2
-        Kloc[rm + 1, rn + 2] -= v0
-        Kloc[rm + 2, rn] -= v1
-        Kloc[rm + 2, rn + 1] += v0
+    n = xi.shape[0]
+    tangent = Kloc.shape[0] != 0
+    energy = 0.0
+    count = 0
+    M = np.empty((3, 3))
+    ua = np.empty(3)
+    ub = np.empty(3)
+    m1 = np.empty(3)
+    for a in range(n):
+        qa = nodes[a + 1]
+        xa0 = xi[a, 0]
+        xa1 = xi[a, 1]
+        xa2 = xi[a, 2]
+        for b in range(a + 1, n):
+            qb = nodes[b + 1]
+            xb0 = xi[b, 0]
+            xb1 = xi[b, 1]
+            xb2 = xi[b, 2]
+            cab0 = Xi[a, 1] * Xi[b, 2] - Xi[a, 2] * Xi[b, 1]
+            cab1 = Xi[a, 2] * Xi[b, 0] - Xi[a, 0] * Xi[b, 2]
+            cab2 = Xi[a, 0] * Xi[b, 1] - Xi[a, 1] * Xi[b, 0]
+            # g_c = xi_a x xi_b, fixed for the pair
+            gc0 = xa1 * xb2 - xa2 * xb1
+            gc1 = xa2 * xb0 - xa0 * xb2
+            gc2 = xa0 * xb1 - xa1 * xb0
+            ab_in = D2[a, b] <= r2
+            wab = wC * vol[qa] * vol[qb]
+            s_ab = Ln[a] * Ln[a] + Ln[b] * Ln[b] + D2[a, b]
+            M00 = M01 = M02 = M11 = M12 = M22 = 0.0
+            s0 = s1 = s2 = 0.0
+            any_c = False
+            ra = 3 * (a + 1)
+            rb = 3 * (b + 1)
+            for cc in range(b + 1, n):
+                qc = nodes[cc + 1]
+                ac_in = D2[a, cc] <= r2
+                bc_in = D2[b, cc] <= r2
+                # vertices (besides p) whose horizon holds the other three
+                a_c = ab_in and ac_in
+                b_c = ab_in and bc_in
+                c_c = ac_in and bc_in
+                if (a_c and qa < p) or (b_c and qb < p) or (c_c and qc < p):
+                    continue
+                V0 = abs(cab0 * Xi[cc, 0] + cab1 * Xi[cc, 1] + cab2 * Xi[cc, 2])
+                S = (s_ab + Ln[cc] * Ln[cc] + D2[a, cc] + D2[b, cc]) / 6.0
+                if V0 * V0 <= DEGENERATE_TOL * DEGENERATE_TOL * S * S * S:
+                    continue
+                any_c = True
+                mult = 1.0 + a_c + b_c + c_c
+                w = mult * 1.5 * wab * vol[qc]
+                xc0 = xi[cc, 0]
+                xc1 = xi[cc, 1]
+                xc2 = xi[cc, 2]
+                s = gc0 * xc0 + gc1 * xc1 + gc2 * xc2
+                vv = abs(s)
+                d2 = w / V0
+                e_t = 0.5 * d2 * (vv - V0) ** 2
+                energy += e_t
+                share = e_t / mult
+                e_loc[0] += share
+                if a_c:
+                    e_loc[a + 1] += share
+                if b_c:
+                    e_loc[b + 1] += share
+                if c_c:
+                    e_loc[cc + 1] += share
+                d1 = d2 * (vv - V0) * (1.0 if s >= 0.0 else -1.0)
+                rc = 3 * (cc + 1)
+                f_loc[rc] += d1 * gc0
+                f_loc[rc + 1] += d1 * gc1
+                f_loc[rc + 2] += d1 * gc2
+                s0 += d1 * xc0
+                s1 += d1 * xc1
+                s2 += d1 * xc2
+                count += 1
+                if not tangent:
+                    continue
+                M00 += d2 * xc0 * xc0
+                M01 += d2 * xc0 * xc1
+                M02 += d2 * xc0 * xc2
+                M11 += d2 * xc1 * xc1
+                M12 += d2 * xc1 * xc2
+                M22 += d2 * xc2 * xc2
+                k = 6 * cc
+                kcc[k] += d2 * gc0 * gc0
+                kcc[k + 1] += d2 * gc0 * gc1
+                kcc[k + 2] += d2 * gc0 * gc2
+                kcc[k + 3] += d2 * gc1 * gc1
+                kcc[k + 4] += d2 * gc1 * gc2
+                kcc[k + 5] += d2 * gc2 * gc2
+                t0 = d2 * gc0
+                t1 = d2 * gc1
+                t2 = d2 * gc2
+                # (a, c) = d2 g_a g_c^T + d1 [xi_b]x, g_a = xi_b x xi_c
+                _add_outer_cross(Kloc, ra, rc, xb1 * xc2 - xb2 * xc1, xb2 * xc0 - xb0 * xc2,
+                                 xb0 * xc1 - xb1 * xc0, t0, t1, t2, d1 * xb0, d1 * xb1, d1 * xb2)
+                # (b, c) = d2 g_b g_c^T - d1 [xi_a]x, g_b = xi_c x xi_a
+                _add_outer_cross(Kloc, rb, rc, xc1 * xa2 - xc2 * xa1, xc2 * xa0 - xc0 * xa2,
+                                 xc0 * xa1 - xc1 * xa0, t0, t1, t2, -d1 * xa0, -d1 * xa1, -d1 * xa2)
+            if not any_c:
+                continue
+            # gradients of the pair: sum_c d1 g_a = xi_b x m1, sum_c d1 g_b = m1 x xi_a
+            f_loc[ra] += xb1 * s2 - xb2 * s1
+            f_loc[ra + 1] += xb2 * s0 - xb0 * s2
+            f_loc[ra + 2] += xb0 * s1 - xb1 * s0
+            f_loc[rb] += s1 * xa2 - s2 * xa1
+            f_loc[rb + 1] += s2 * xa0 - s0 * xa2
+            f_loc[rb + 2] += s0 * xa1 - s1 * xa0
+            if not tangent:
+                continue
+            M[0, 0] = M00
+            M[0, 1] = M[1, 0] = M01
+            M[0, 2] = M[2, 0] = M02
+            M[1, 1] = M11
+            M[1, 2] = M[2, 1] = M12
+            M[2, 2] = M22
+            for al in range(3):
+                ua[al] = xi[a, al]
+                ub[al] = xi[b, al]
+            m1[0] = s0
+            m1[1] = s1
+            m1[2] = s2
+            _add_sandwich(Kloc, ra, ra, 1.0, M, ub, ub)
+            _add_sandwich(Kloc, rb, rb, 1.0, M, ua, ua)
+            _add_sandwich(Kloc, ra, rb, -1.0, M, ub, ua)
+            # - [m1]x at (a, b)
+            Kloc[ra, rb + 1] += s2
+            Kloc[ra, rb + 2] -= s1
+            Kloc[ra + 1, rb] -= s2
+            Kloc[ra + 1, rb + 2] += s0
+            Kloc[ra + 2, rb] += s1
+            Kloc[ra + 2, rb + 1] -= s0
+    if tangent:
+        for cc in range(n):
+            k = 6 * cc
+            rc = 3 * (cc + 1)
+            Kloc[rc, rc] += kcc[k]
+            Kloc[rc, rc + 1] += kcc[k + 1]
+            Kloc[rc, rc + 2] += kcc[k + 2]
+            Kloc[rc + 1, rc] += kcc[k + 1]
+            Kloc[rc + 1, rc + 1] += kcc[k + 3]
+            Kloc[rc + 1, rc + 2] += kcc[k + 4]
+            Kloc[rc + 2, rc] += kcc[k + 2]
+            Kloc[rc + 2, rc + 1] += kcc[k + 4]
+            Kloc[rc + 2, rc + 2] += kcc[k + 5]
+            for j in range(6):
+                kcc[k + j] = 0.0
+    return energy, count
 
 
 @njit(cache=True)
 def _mirror_upper(Kloc, nl, d):
     """Neighbour blocks (n, m), n > m, set to the transpose of (m, n): the upper blocks hold
-    every contribution (those of :func:`_quad_hessian` only there), the Hessian is symmetric."""
+    every contribution (those of :func:`_quadruples_3d` only there), the Hessian is symmetric."""
     for m in range(1, nl):
         for n in range(m + 1, nl):
             for al in range(d):
@@ -268,6 +422,22 @@ def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, slots, s0, data):
 
 
 @njit(cache=True)
+def dof_columns(rowptr, cols, d, indptr):
+    """Column indices (int32) of the DOF-level CSR of the block pattern (``rowptr``, ``cols``
+    node-level; ``indptr`` the DOF-level row pointer): DOF row a*d + al holds, for every
+    block column b of node row a, the columns b*d .. b*d + d-1."""
+    out = np.empty(indptr[-1], np.int32)
+    for a in range(rowptr.shape[0] - 1):
+        for al in range(d):
+            k = indptr[a * d + al]
+            for e in range(rowptr[a], rowptr[a + 1]):
+                for be in range(d):
+                    out[k] = cols[e] * d + be
+                    k += 1
+    return out
+
+
+@njit(cache=True)
 def block_slots(centers, nptr, nidx, rowptr, cols):
     """Where each block of each central point's local tangent goes in the fixed pattern.
 
@@ -335,6 +505,7 @@ def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
     g = np.zeros((3, d))
     H = np.zeros((3, 3, d, d))
     slots = np.zeros(3, np.int64)
+    kcc = np.zeros((nptr[1:] - nptr[:-1]).max() * 6 if centers.shape[0] else 0)
     for c in range(centers.shape[0]):
         p = centers[c]
         s0 = nptr[c]
@@ -503,65 +674,9 @@ def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
         # ---- three-neighbour interactions (3D), psi3 = 1/2 C3 V (v/V - 1)^2 ----
         if d == 3 and C3[c] != 0.0:
             full = True
-            for a in range(n):
-                for b in range(a + 1, n):
-                    cab0 = Xi[a, 1] * Xi[b, 2] - Xi[a, 2] * Xi[b, 1]
-                    cab1 = Xi[a, 2] * Xi[b, 0] - Xi[a, 0] * Xi[b, 2]
-                    cab2 = Xi[a, 0] * Xi[b, 1] - Xi[a, 1] * Xi[b, 0]
-                    xab0 = xi[a, 1] * xi[b, 2] - xi[a, 2] * xi[b, 1]
-                    xab1 = xi[a, 2] * xi[b, 0] - xi[a, 0] * xi[b, 2]
-                    xab2 = xi[a, 0] * xi[b, 1] - xi[a, 1] * xi[b, 0]
-                    qa = nodes[a + 1]
-                    qb = nodes[b + 1]
-                    ab_in = D2[a, b] <= r2
-                    for cc in range(b + 1, n):
-                        qc = nodes[cc + 1]
-                        ac_in = D2[a, cc] <= r2
-                        bc_in = D2[b, cc] <= r2
-                        # vertices (besides p) whose horizon holds the other three
-                        a_c = ab_in and ac_in
-                        b_c = ab_in and bc_in
-                        c_c = ac_in and bc_in
-                        if (a_c and qa < p) or (b_c and qb < p) or (c_c and qc < p):
-                            continue
-                        mult = 1.0 + a_c + b_c + c_c
-                        V0 = abs(cab0 * Xi[cc, 0] + cab1 * Xi[cc, 1] + cab2 * Xi[cc, 2])
-                        S = (Ln[a] * Ln[a] + Ln[b] * Ln[b] + Ln[cc] * Ln[cc]
-                             + D2[a, b] + D2[a, cc] + D2[b, cc]) / 6.0
-                        if V0 <= DEGENERATE_TOL * S * np.sqrt(S):
-                            continue
-                        w = mult * 1.5 * Vp * vol[qa] * vol[qb] * vol[qc] * C3[c]
-                        s = xab0 * xi[cc, 0] + xab1 * xi[cc, 1] + xab2 * xi[cc, 2]
-                        sg = 1.0 if s >= 0.0 else -1.0
-                        vv = abs(s)
-                        d2 = w / V0
-                        e_t = 0.5 * d2 * (vv - V0) ** 2
-                        energy += e_t
-                        share = e_t / mult
-                        e_loc[0] += share
-                        if a_c:
-                            e_loc[a + 1] += share
-                        if b_c:
-                            e_loc[b + 1] += share
-                        if c_c:
-                            e_loc[cc + 1] += share
-                        d1 = d2 * (vv - V0) * sg         # dpsi/ds
-                        # ds/dxi_a = xi_b x xi_c, ds/dxi_b = xi_c x xi_a, ds/dxi_c = xi_a x xi_b
-                        g[0, 0] = xi[b, 1] * xi[cc, 2] - xi[b, 2] * xi[cc, 1]
-                        g[0, 1] = xi[b, 2] * xi[cc, 0] - xi[b, 0] * xi[cc, 2]
-                        g[0, 2] = xi[b, 0] * xi[cc, 1] - xi[b, 1] * xi[cc, 0]
-                        g[1, 0] = xi[cc, 1] * xi[a, 2] - xi[cc, 2] * xi[a, 1]
-                        g[1, 1] = xi[cc, 2] * xi[a, 0] - xi[cc, 0] * xi[a, 2]
-                        g[1, 2] = xi[cc, 0] * xi[a, 1] - xi[cc, 1] * xi[a, 0]
-                        g[2, 0] = xab0
-                        g[2, 1] = xab1
-                        g[2, 2] = xab2
-                        if want_tangent:
-                            _quad_hessian(Kloc, g, d1, d2, xi, a, b, cc)
-                        for m, t in ((0, a), (1, b), (2, cc)):
-                            for al in range(3):
-                                f_loc[3 * (t + 1) + al] += d1 * g[m, al]
-                        n_quad += 1
+            e3, k3 = _quadruples_3d(Kloc, f_loc, e_loc, xi, Xi, Ln, D2, nodes, vol, Vp * C3[c], p, r2, kcc)
+            energy += e3
+            n_quad += k3
         for m in range(nl):
             e_node[nodes[m]] += e_loc[m]
         if want_tangent and d == 3 and C3[c] != 0.0:

@@ -6,7 +6,8 @@ step the free DOFs are iterated with the exact tangent; convergence is measured 
 state right after the boundary increment (free DOFs at the last converged state), stop
 at ``tol`` (1e-11); from the second step on the iterations start from a secant
 extrapolation of the last converged increment (for a linear problem its first residual
-is already round-off small, hence the normalisation by the un-extrapolated state). A backtracking line search on the energy / residual guards against
+is already round-off small, hence the normalisation by the un-extrapolated state). A backtracking line search on the energy (positive definite tangents) or the
+residual norm guards against
 diverging iterations; a step that still fails is bisected (``max_cuts`` times) before a
 :class:`interfaces.errors.SolverError` is raised saying what to change.
 
@@ -19,65 +20,21 @@ triangular solves.
 """
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator, gmres
 
 from interfaces.errors import SolverError
 from interfaces.sparse import DirectSolver, SingularMatrixError
 
 from .assembly import CPDSystem
+from .reduction import ReducedMatrix
 
-
-class ReducedMatrix:
-    """K_ff over the free independent DOFs, refilled from the fixed pattern's CSR data.
-
-    The map from the full block-CSR data (node DOFs) to the reduced CSR (free independent
-    DOFs, see :class:`~peridynamics.assembly.DofMap`) is built once; each Newton
-    iteration is one gather (or one scatter-add where the compliant overlap identifies
-    DOFs), so the reduced matrix keeps one sparsity pattern for the whole solve and the
-    direct solver's symbolic analysis is reused.
-    """
-
-    def __init__(self, system: CPDSystem, free: np.ndarray):
-        pat = system.pattern
-        nf = len(free)
-        pos = np.full(system.dofs.n, -1, dtype=np.int64)
-        pos[free] = np.arange(nf)
-        index = system.dofs.index
-        rows = np.repeat(np.arange(len(pat.indptr) - 1, dtype=np.int64), np.diff(pat.indptr))
-        r = pos[index[rows]]
-        c = pos[index[pat.indices.astype(np.int64)]]
-        keep = np.flatnonzero((r >= 0) & (c >= 0))
-        key = r[keep] * nf + c[keep]
-        del rows, r, c
-        order = np.argsort(key, kind="stable")
-        key = key[order]
-        first = np.ones(len(key), dtype=bool)
-        first[1:] = key[1:] != key[:-1]
-        ukey = key[first]
-        self.indices = (ukey % nf).astype(np.int32)
-        self.indptr = np.zeros(nf + 1, dtype=np.int64)
-        np.cumsum(np.bincount(ukey // nf, minlength=nf), out=self.indptr[1:])
-        self.shape = (nf, nf)
-        self.injective = bool(first.all())
-        if self.injective:
-            self.gather = keep[order]
-        else:
-            self.source = keep[order]
-            self.target = np.cumsum(first) - 1
-
-    def __call__(self, data: np.ndarray, out: np.ndarray | None = None) -> sp.csr_matrix:
-        """K_ff from the full pattern's ``data``; ``out`` (len(indices)) receives the values
-        of an injective map instead of a new array (shared with the returned matrix)."""
-        if self.injective:
-            vals = np.take(data, self.gather, out=out) if out is not None else data[self.gather]
-        else:
-            vals = np.bincount(self.target, weights=data[self.source], minlength=len(self.indices))
-        return sp.csr_matrix((vals, self.indices, self.indptr), shape=self.shape)
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -92,6 +49,9 @@ class NewtonOptions:
     line_search: bool = True
     reuse_factorization: bool = True
     extrapolate: bool = True
+    #: receives one line per evaluation, Newton iteration and line-search trial (residual,
+    #: wall time); None sends them to the ``peridynamics.newton`` logger at INFO level
+    report: Callable[[str], None] | None = None
 
 
 @dataclass
@@ -191,6 +151,12 @@ class TangentSolver:
         self.stats["factorizations"] += 1
         self.times["factorization"] += time.perf_counter() - t0
 
+    def summary(self) -> str:
+        """Factorisations and Krylov iterations so far (one line of the progress report)."""
+        st = self.stats
+        return (f"{st['factorizations']} factorisations, {st['krylov_iterations']} Krylov iterations "
+                f"in {st['krylov_solves']} solves")
+
     def _back(self, r):
         t0 = time.perf_counter()
         x = self.direct.solve(r)
@@ -267,6 +233,10 @@ def _advice(f: StepFailure) -> str:
     if "singular" in f.reason.lower():
         return ("check that the prescribed displacements remove every rigid-body motion of every body "
                 "(a debonded interface, Dn = Dt = 0, leaves a body free)")
+    if "indefinite" in f.reason:
+        return ("the state is unstable (negative tangent eigenvalues: in 3D the free faces of a material "
+                "with C3 < 0, i.e. nu < 1/4, soften and the Newton step leaves the quadratic basin); "
+                "increase load_steps, shrink the free faces, or use nu >= 1/4 (or Dn, Dt > 0)")
     if "max_iter" in f.reason:
         return "increase load_steps or max_iter, or loosen tol"
     return "increase load_steps, loosen tol, or check for points crushed by a too-large deformation"
@@ -294,6 +264,9 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     out = NewtonOutcome(u=u)
     lin = TangentSolver(reuse=opts.reuse_factorization, kind=solver)
     prev = {"u": None, "lam": 0.0}
+    # largest r_(k+1) / r_k^2 seen in the solve (1e-2 before any): a near-singular tangent (the
+    # soft surface modes of a C3 < 0 material) raises it by orders of magnitude
+    contraction = [1e-2]
     t = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
     failures: list[StepFailure] = []
 
@@ -302,10 +275,18 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     tangent_buffer = np.empty(system.pattern.nnz)
     reduced_buffer = np.empty(len(red.indices)) if red.injective else None
 
+    say = opts.report or log.info
+    t_solve = time.perf_counter()
+
+    def note(msg):
+        say(f"CPD Newton [{time.perf_counter() - t_solve:8.1f} s] {msg}")
+
     def evaluate(v, tangent):
         t0 = time.perf_counter()
         ev = system.evaluate(dofs.expand(v), tangent, out=tangent_buffer if tangent else None)
-        t["assembly" if tangent else "line_search"] += time.perf_counter() - t0
+        dt = time.perf_counter() - t0
+        t["assembly" if tangent else "line_search"] += dt
+        note(f"  {'residual + tangent' if tangent else 'residual only'} evaluated in {dt:.1f} s")
         return ev
 
     def residual(ev):
@@ -321,6 +302,8 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
         scale = None
 
         def fail(reason):
+            if lin.factored and not lin.definite:
+                reason += f"; tangent indefinite ({lin.direct.negative_pivots()} negative pivots)"
             return StepFailure(lam1, res_hist, reason)
 
         if opts.extrapolate and prev["u"] is not None and lam0 > prev["lam"]:
@@ -347,6 +330,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             if scale is None or not scale > 0:
                 scale = max(rn, 1e-300)
             res_hist.append(rn / scale)
+            note(f"load {lam1:.4g} iteration {it}: normalised residual {rn / scale:.3e}")
             if rn <= opts.tol * scale or rn == 0.0:
                 return v, res_hist, ev, (steps, times)
             if it == opts.max_iter:
@@ -360,12 +344,18 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
             except RuntimeError as e:
                 return fail(f"singular tangent ({e})")
             t["linear_solve"] += time.perf_counter() - t0
+            note(f"  linear solve in {time.perf_counter() - t0:.1f} s ({lin.summary()}, asked {eta:.1e})")
             if not np.all(np.isfinite(du)):
                 return fail("non-finite Newton increment (singular tangent)")
             # full Newton step, evaluated with the tangent (reused by the next iteration
-            # when accepted) unless the step is expected to converge (the forcing term is
-            # at its tol floor); backtracking with energy-only evaluations otherwise
-            with_tangent = 1e-2 * (rn / scale) ** 2 > 0.1 * opts.tol
+            # when accepted) unless the step is expected to converge: the next residual
+            # predicted from the quadratic constant seen so far is below 0.1 tol (the
+            # forcing term is then at its tol floor); backtracking with energy-only
+            # evaluations otherwise
+            r_now = rn / scale
+            if len(res_hist) > 1 and res_hist[-2] > 0:
+                contraction[0] = max(contraction[0], r_now / res_hist[-2] ** 2)
+            with_tangent = contraction[0] * r_now ** 2 > 0.1 * opts.tol
             w0 = ev.energy - lam1 * float(fext[free] @ v[free])
             alpha = 1.0
             accepted = None
@@ -377,11 +367,21 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                     et = evaluate(trial, trial_no == 0 and with_tangent)
                 except ValueError as e:          # points collapsed: shorten the step
                     why = f"line search: {e}"
+                    note(f"  trial step {alpha:g} rejected: {e}")
                     alpha *= 0.5
                     continue
                 rt = np.linalg.norm(residual(et)[free] - lam1 * fext[free])
                 wt = et.energy - lam1 * float(fext[free] @ trial[free])
-                if not opts.line_search or (np.isfinite(rt) and (rt < rn or wt <= w0)):
+                # the energy decrease is a valid acceptance test only for a positive definite
+                # tangent (a descent direction towards a minimum); with negative pivots the
+                # equilibrium is a saddle and the Newton step may lower the energy while leaving
+                # it (measured: 0.8 x 0.6 x 0.6 cuboid, residual 0.19 -> 128 accepted on energy),
+                # so only the residual norm (the merit ||R||^2, for which the Newton step is
+                # always a descent direction) decides
+                ok = not opts.line_search or (np.isfinite(rt) and (rt < rn or (lin.definite and wt <= w0)))
+                note(f"  trial step {alpha:g}: normalised residual {rt / scale:.3e}, energy change "
+                     f"{wt - w0:.3e} ({'accepted' if ok else 'rejected'})")
+                if ok:
                     accepted = (trial, et)
                     break
                 alpha *= 0.5
@@ -411,6 +411,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
                     f"CPD Newton-Raphson did not converge to tol = {opts.tol:g} at load factor {f.load:.4g} "
                     f"after {opts.max_cuts} step cuts (failing step: {f.reason}; its normalised residuals "
                     f"[{hist}]); {_advice(f)}")
+            note(f"load {target:.4g} failed ({got.reason}): bisected")
             targets.insert(0, 0.5 * (lam + target))      # bisect the step
             continue
         u, hist, ev, (alphas, times) = got

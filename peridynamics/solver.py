@@ -10,6 +10,7 @@ quantities, fields and profiles of the common :class:`interfaces.Result`.
 from __future__ import annotations
 
 import math
+import sys
 import time
 import warnings
 
@@ -30,11 +31,15 @@ from .parameters import calibrate, cpd_from_lame, lattice_ratios
 #: tuple count per tangent evaluation above which :func:`solve` warns about the run time
 TUPLE_WARNING = 3e8
 #: measured one-core tangent time per tuple of :func:`estimate_tuples` (an upper bound: the
-#: kernels evaluate ~60 % of them), 2D triples and 3D quadruples alike (bench_cpd, cuboid)
-SECONDS_PER_TUPLE = 6e-8
+#: kernels evaluate ~60 % of them): 3D quadruples 3.3e-8 s (0.6 x 0.45 x 0.45 cuboid,
+#: benchmarks/bench_cpd_cuboid.py), 2D triples about the same (bench_cpd)
+SECONDS_PER_TUPLE = 3.5e-8
 
 OPTIONS = ("h", "delta_factor", "overlap", "load_steps", "tol", "max_iter", "calibration",
-           "constants", "line_search", "grid", "solver")
+           "constants", "line_search", "grid", "solver", "progress")
+#: estimated seconds per tangent evaluation above which the Newton progress is printed
+#: (``progress`` None: automatic)
+PROGRESS_AFTER = 10.0
 
 
 def material_constants(case, body, delta: float) -> tuple[float, float, float]:
@@ -90,7 +95,13 @@ def _options(case, options: dict) -> dict:
     return {"h": h, "delta_factor": df, "overlap": ov, "load_steps": steps, "tol": tol,
             "max_iter": int(max_iter), "calibration": cal, "constants": o.get("constants"),
             "line_search": bool(o.get("line_search", True)), "grid": o.get("grid", "vertex"),
-            "solver": kind}
+            "solver": kind, "progress": _progress_option(o.get("progress"))}
+
+
+def _progress_option(value):
+    if value is not None and not isinstance(value, bool):
+        raise CaseError(f"cpd.progress must be true, false or null (automatic), got {value!r}")
+    return value
 
 
 def build_system(case, disc: Discretization, calibration: str, constants: dict | None,
@@ -240,7 +251,10 @@ def solve(case, **options) -> Result:
     ``"lattice"`` (constants rescaled to the grid's interior energy density),
     ``constants`` {material: [C1, C2, C3]} to bypass the (E, nu) conversion,
     ``line_search`` (True), ``grid`` ``"vertex"`` (points on boundaries and straight
-    interfaces; default) or ``"cell"`` (cell centres).
+    interfaces; default) or ``"cell"`` (cell centres), ``progress`` (None: one line per
+    evaluation, Newton iteration and line-search trial on stderr when a tangent evaluation
+    is estimated above ``PROGRESS_AFTER`` seconds, to the ``peridynamics.newton`` logger at
+    INFO level otherwise; True / False force either).
 
     Result: quantities ``strain_energy`` (points of the bodies; each overlap point carries
     the energy of both materials, boundary layers excluded), ``strain_energy_with_layers``,
@@ -269,15 +283,18 @@ def solve(case, **options) -> Result:
     timings["neighbours_pattern"] = time.perf_counter() - t0
     fixed, u_bar, f_ext = boundary_vectors(disc)
     est = estimate_tuples(system)
+    seconds = SECONDS_PER_TUPLE * (est["triples"] + est["quadruples"])
     if est["quadruples"] + est["triples"] > TUPLE_WARNING:
         msg = (f"CPD: ~{est['triples']:.2g} triples and ~{est['quadruples']:.2g} quadruples per tangent "
-               f"evaluation (about {SECONDS_PER_TUPLE * (est['triples'] + est['quadruples']):.0f} s each on one core); "
+               f"evaluation (about {seconds:.0f} s each on one core); "
                "reduce delta_factor, the body size or refine less")
         warnings.warn(msg, RuntimeWarning, stacklevel=2)
+    show = o["progress"] if o["progress"] is not None else seconds > PROGRESS_AFTER
     ls = o["load_steps"]
     nopt = NewtonOptions(load_steps=ls if isinstance(ls, int) else len(ls),
                          load_factors=ls if isinstance(ls, tuple) else (), tol=o["tol"],
-                         max_iter=o["max_iter"], line_search=o["line_search"])
+                         max_iter=o["max_iter"], line_search=o["line_search"],
+                         report=(lambda line: print(line, file=sys.stderr, flush=True)) if show else None)
     t0 = time.perf_counter()
     outcome = newton_solve(system, fixed, u_bar, f_ext, nopt, solver=o["solver"])
     timings["newton"] = time.perf_counter() - t0

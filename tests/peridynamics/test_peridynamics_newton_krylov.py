@@ -101,3 +101,37 @@ def test_krylov_newton_matches_a_factorisation_every_iteration(strain_scale):
     # both stop below tol = 1e-11 of the normalised residual; measured difference 2.9e-14
     # (linear) and 1.1e-16 (finite stretch) of max |u|
     assert np.abs(krylov.u - exact.u).max() < 1e-13 * scale
+
+
+def test_progress_lines_report_every_evaluation_iteration_and_trial(capsys, caplog):
+    """``progress=True`` prints one line per evaluation, iteration and line-search trial with
+    the residual the history records; without it the same lines go to the logger."""
+    import logging
+    import re
+
+    import peridynamics
+    from cases import library
+
+    case = library.bimaterial_square(parameter_set=3, load_case=3, interface="vertical")
+    res = peridynamics.solve(case, h=0.1, progress=True)
+    lines = capsys.readouterr().err.splitlines()
+    hist = res.diagnostics["newton_history"][0]["residuals"]
+    its = [float(m.group(1)) for m in (re.search(r"iteration \d+: normalised residual (\S+)", s) for s in lines) if m]
+    assert np.allclose(its, hist, rtol=1e-3)
+    assert sum("trial step 1:" in s for s in lines) == len(hist) - 1
+    assert sum("evaluated in" in s for s in lines) >= len(hist)
+    assert all(re.match(r"CPD Newton \[ *\d+\.\d s\]", s) for s in lines if "CPD Newton" in s)
+    with caplog.at_level(logging.INFO, logger="peridynamics.newton"):
+        peridynamics.solve(case, h=0.1, progress=False)
+    assert capsys.readouterr().err == "" and sum("normalised residual" in r.message for r in caplog.records) >= len(hist)
+    with pytest.raises(Exception, match="cpd.progress"):
+        peridynamics.solve(case, h=0.1, progress="yes")
+
+
+def test_an_indefinite_failing_step_says_the_state_is_unstable():
+    from peridynamics.newton import StepFailure, _advice
+
+    f = StepFailure(1.0, [1.0, 0.19], "line search found no decrease; tangent indefinite (208 negative pivots)")
+    assert "unstable" in _advice(f) and "load_steps" in _advice(f)
+    assert "unstable" not in _advice(StepFailure(1.0, [1.0], "line search found no decrease"))
+    assert "rigid-body" in _advice(StepFailure(1.0, [1.0], "singular tangent (x); tangent indefinite (3 negative pivots)"))
