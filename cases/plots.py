@@ -17,7 +17,7 @@ STYLE = {"analytic": dict(color="k", ls="-", marker=None, lw=1.6),
          "mpm": dict(color="tab:red", ls=":", marker="o", lw=1.2),
          "cpd": dict(color="tab:green", ls="-.", marker="^", lw=1.2)}
 UNITS = {"stiffness": "N/mm", "stiffness_energy": "N/mm", "strain_energy": "N mm", "interface_energy": "N mm",
-         "kinetic_energy": "N mm", "bulk_modulus": "MPa", "transmitted_energy": "-", "beta_l": "-",
+         "kinetic_energy": "N mm", "bulk_modulus": "MPa", "bulk_modulus_pressure": "MPa", "transmitted_energy": "-", "beta_l": "-",
          "pulse_transmitted_energy": "-", "incident_pulse_energy": "N mm", "energy_balance_error": "-",
          "incident_peak_stress": "MPa", "transmitted_peak_stress": "MPa",
          "compliance": "mm/N", "interface_energy_density": "MPa"}

@@ -63,6 +63,17 @@ def _traction_work():
             np.empty(3), np.empty(3), np.empty(9, np.int64), np.empty(9))
 
 
+@njit(cache=True, inline="always")
+def normalise_weights(tw, c, tot) -> bool:
+    """Divide the ``c`` traction weights ``tw`` by their sum ``tot``; False (nothing
+    done) when no node qualified (``tot`` = 0)."""
+    if tot <= 0.0:
+        return False
+    for k in range(c):
+        tw[k] /= tot
+    return True
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _traction_weights(px, py, ex, ey, origin, cell, nn, lp, kind, tidx, tw,
                       wx, dwx, wy, dwy, qx, dqx, qy, dqy):
@@ -100,9 +111,7 @@ def _traction_weights(px, py, ex, ey, origin, cell, nn, lp, kind, tidx, tw,
                     tw[c] = w
                     tot += w
                     c += 1
-    if tot > 0.0:
-        for k in range(c):
-            tw[k] /= tot
+    if normalise_weights(tw, c, tot):
         return c
     c = 0
     for b in range(nby):

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .kernels import normalise_weights
 from .shape import axis_weights3, axis_weights_tuple, edge_kind
 
 
@@ -134,9 +135,7 @@ def _traction_nodes_3d(p, x, foff, origin, cell, nn, lp, kind, tidx, tw) -> int:
                         tw[c] = w
                         tot += w
                         c += 1
-    if tot > 0.0:
-        for k in range(c):
-            tw[k] /= tot
+    if normalise_weights(tw, c, tot):
         return c
     c = 0
     for cz in range(nbz):

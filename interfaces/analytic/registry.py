@@ -355,11 +355,14 @@ def _csa(params: dict[str, Any]) -> tuple[CompositeSpheres, dict[str, Any]]:
 
 @_named
 def composite_spheres(**params) -> dict[str, float]:
-    """Bulk modulus of the composite spheres assemblage with a spring interface (000 Sec 3)."""
+    """Bulk modulus of the composite spheres assemblage with a spring interface (000 Sec 3);
+    ``bulk_modulus_pressure`` is the same K, the reference of the pressure measure (000
+    Eq 36) that the numerical methods report beside the energy one (Eq 35)."""
     m, _ = _csa(params)
     perfect = CompositeSpheres(m.K_p, m.K_m, m.G_m, m.phi, m.a, _INF).bulk_modulus
     debonded = CompositeSpheres(m.K_p, m.K_m, m.G_m, m.phi, m.a, 0.0).bulk_modulus
-    return {"bulk_modulus": m.bulk_modulus, "bulk_modulus_perfect": perfect,
+    return {"bulk_modulus": m.bulk_modulus, "bulk_modulus_pressure": m.bulk_modulus,
+            "bulk_modulus_perfect": perfect,
             "bulk_modulus_debonded": debonded, "effective_particle_modulus": m.effective_particle_modulus,
             "phi": m.phi}
 
