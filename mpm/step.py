@@ -46,7 +46,7 @@ from .kernels import (MUSL, USF, USL, fold_ghosts, grid_update, multimaterial_no
                       reflect_ghosts, set_velocity_bc, step_velocities, stress_from_grid_2d)
 from .multimaterial_constants import OUT_STATUS, STATUS_OVER_LIMIT
 from .multimaterial_kernels import (bonded_velocity_bc_kernel, correct_momentum_kernel,
-                                    interface_forces_kernel)
+                                    interface_forces_kernel, stick_limited_kernel)
 from .multimaterial_lr import lr_kernel
 from .kernels3d import p2g_internal_force_3d, p2g_momentum_3d, stress_from_grid_3d
 from .parallel import g2p_blocks, p2g_blocks
@@ -253,8 +253,9 @@ def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes) -> float:
     """Step 9 (MUSL): the updated particle momenta re-extrapolated to the grid with the
     start-of-step shape functions (``pt.x_before``, as the reference strain-last
     algorithm does: the masses, hence the multimaterial ``nodes``, and the LR normals of
-    this step stay those of the first extrapolation), the velocity conditions and the
-    contact correction on ``nodes`` applied to them, then the strain increment from them
+    this step stay those of the first extrapolation), the velocity conditions, the
+    contact correction and the stick of the force-limited interface directions on
+    ``nodes`` applied to them, then the strain increment from them
     with the same shape-function gradients; returns the strain energy."""
     x = pt.x_before
     if x.shape[1] == 3:
@@ -268,6 +269,8 @@ def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes) -> float:
     phase_ghosts(ctl, nd, bc, vel, False)
     if nodes.size:
         phase_contact(0, ctl, grid, nd, pairs, nodes)
+        if ctl.with_interface:
+            stick_limited_kernel(nd.mass, nd.momentum, pairs.node_out, nodes)
         phase_bonded_conditions(ctl, nd, bc, pairs, vel, False)
     if not ctl.axisymmetric:
         return phase_stress(ctl, pt, grid, nd, x)
