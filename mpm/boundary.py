@@ -178,6 +178,8 @@ def nodal_conditions(case, grid: Grid, default_ramp: float, band: str = "none") 
     nodes of its side (:func:`side_nodes`); ``band`` ("none", "normal": the conditions
     on the side's normal component only, i.e. symmetry faces, "all") widens the side's
     extent by one cell for those conditions."""
+    if band not in BANDS:
+        raise ValueError(f"nodal_conditions: band must be one of {BANDS}, got {band!r}")
     keys = ("node", "field", "comp", "vel", "t_end", "ramp", "t_ramp")
     cols = {k: [] for k in keys}
     X = None
