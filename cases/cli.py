@@ -59,6 +59,23 @@ def parse_assignments(items) -> dict:
     return out
 
 
+def parse_curves(items) -> dict:
+    """``--curve nano:radius=7e-4,side=1e-3`` -> {"nano": {"radius": 7e-4, "side": 1e-3}}.
+
+    The overrides split at commas that start a new ``key=``, so a list value
+    (``key=1,2,3``) stays whole."""
+    out: dict = {}
+    for item in items or []:
+        label, sep, rest = item.partition(":")
+        if not sep or not label.strip():
+            raise CaseError(f"--curve expects LABEL:KEY=VALUE[,KEY=VALUE...], got {item!r}")
+        if label.strip() in out:
+            raise CaseError(f"--curve {label.strip()!r} is given twice")
+        parts = [x for x in re.split(r",(?=\s*[A-Za-z_][A-Za-z0-9_.]*\s*=)", rest) if x.strip()]
+        out[label.strip()] = parse_assignments(parts)
+    return out
+
+
 def parse_options(items) -> dict:
     """``--option fem.order=1`` -> {"fem": {"order": 1}}."""
     out: dict = {}
@@ -166,7 +183,7 @@ def cmd_sweep(args) -> int:
     out = check_output_dir(args.resume or args.out)
     sw = sweep(spec["case"], spec["param"], spec["values"], methods=spec["methods"], fixed=spec["fixed"],
                options=spec["options"], workers=args.workers, dask_address=args.dask,
-               record_dir=out, resume=bool(args.resume), progress=True)
+               record_dir=out, resume=bool(args.resume), progress=True, curves=spec.get("curves"))
     sw.to_json(out / "sweep.json")
     sw.to_csv(out / "sweep.csv")
     wanted = [q.strip() for q in args.quantities.split(",")] if args.quantities else None
@@ -188,7 +205,8 @@ def _sweep_spec(args) -> dict:
     if args.resume:
         spec = load_spec(args.resume)
         spec["values"] = [parse_value(str(v)) for v in spec["values"]]
-        spec["fixed"] = {k: parse_value(str(v)) if isinstance(v, str) else v for k, v in spec["fixed"].items()}
+        spec["fixed"] = _decoded(spec["fixed"])
+        spec["curves"] = {label: _decoded(over) for label, over in spec.get("curves", {}).items()}
         given = {"case": args.case, "param": args.param}
         for k, v in given.items():
             if v is not None and v != spec[k]:
@@ -202,7 +220,13 @@ def _sweep_spec(args) -> dict:
     if missing:
         raise CaseError(f"sweep needs {', '.join(missing)} (or --resume DIR to continue a recorded sweep)")
     return {"case": args.case, "param": args.param, "values": _values(args.values), "methods": args.methods,
-            "fixed": parse_assignments(args.set), "options": parse_options(args.option)}
+            "fixed": parse_assignments(args.set), "options": parse_options(args.option),
+            "curves": parse_curves(args.curve)}
+
+
+def _decoded(over: dict) -> dict:
+    """Overrides as recorded in a sweep spec (inf and names stored as strings)."""
+    return {k: parse_value(str(v)) if isinstance(v, str) else v for k, v in over.items()}
 
 
 def _values(text: str) -> list:
@@ -214,7 +238,7 @@ def _shared_sweep_quantities(sw) -> list[str]:
     """Quantities that at least two methods give (all of them for a single method)."""
     if len(sw.methods) < 2:
         return sw.quantity_names()
-    count = {q: sum(any(math.isfinite(sw.value(i, m, q)) for i in range(len(sw.values))) for m in sw.methods)
+    count = {q: sum(any(math.isfinite(v) for v in sw.series(m, q)) for m in sw.methods)
              for q in sw.quantity_names()}
     shared = [q for q, c in count.items() if c >= 2]
     return shared or sw.quantity_names()
@@ -246,6 +270,9 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--resume", metavar="DIR", help="continue the sweep recorded in DIR (runs only the missing points)")
     w.add_argument("--methods", default="all")
     w.add_argument("--set", action="append", metavar="KEY=VALUE")
+    w.add_argument("--curve", action="append", metavar="LABEL:KEY=VALUE[,KEY=VALUE]",
+                   help="run the sweep once more per curve with these case overrides, one plot "
+                        "(e.g. --curve micro:radius=0.7 --curve nano:radius=7e-4,side=1e-3)")
     w.add_argument("--option", action="append", metavar="METHOD.KEY=VALUE")
     w.add_argument("--workers", type=int, default=None)
     w.add_argument("--dask", default=None, metavar="ADDRESS", help="send the runs to a Dask scheduler")

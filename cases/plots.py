@@ -198,7 +198,7 @@ def sweep_quantities(sweep) -> list[str]:
     """Quantities worth a panel: given by two or more methods (or all of a single
     method's headline quantities) and not constant over the sweep."""
     def values(q, m):
-        v = np.array([sweep.value(i, m, q) for i in range(len(sweep.values))], dtype=float)
+        v = np.array(sweep.series(m, q), dtype=float)
         return v[np.isfinite(v)]
 
     out = []
@@ -215,11 +215,18 @@ def sweep_quantities(sweep) -> list[str]:
     return out
 
 
+CURVE_MARKERS = ("o", "s", "^", "D", "v", "P")
+CURVE_LINES = ("-", "--", ":", "-.")
+
+
 def plot_sweep(sweep, path, x_transform: str | None = None, quantities=None) -> Path:
-    """Each quantity against the swept parameter, one curve per method.
+    """Each quantity against the swept parameter, one line per method and curve
+    (colour: method; line style and marker: curve, when the sweep has several).
 
     ``x_transform="inverse"`` plots against 1/value (e.g. stiffness vs 1/Dt as 000 Fig 7
-    and 002 Fig 5); infinite values then sit at 0.
+    and 002 Fig 5); infinite values then sit at 0. ``"log"`` uses a log axis on which
+    the limits 0 and inf (debonded, perfect) sit one decade beyond the finite values,
+    at ticks labelled 0 and inf (000 Fig 13).
     """
     quantities = list(quantities) if quantities else sweep_quantities(sweep)
     n = max(1, len(quantities))
@@ -227,24 +234,63 @@ def plot_sweep(sweep, path, x_transform: str | None = None, quantities=None) -> 
     nrow = math.ceil(n / ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=(5.2 * ncol, 3.8 * nrow), squeeze=False)
     axes = axes.ravel()
-    xs = np.asarray(sweep.values, dtype=float)
-    with np.errstate(divide="ignore"):
-        xplot = 1.0 / xs if x_transform == "inverse" else xs
+    xplot, limits = _sweep_x(np.asarray(sweep.values, dtype=float), x_transform)
     for ax, q in zip(axes, quantities):
-        for m in sweep.methods:
-            y = np.array([sweep.value(i, m, q) for i in range(len(xs))], dtype=float)
-            ok = np.isfinite(y) & np.isfinite(xplot)
-            if not ok.any():
-                continue
-            st = _style(m)
-            order = np.argsort(xplot[ok])
-            ax.plot(xplot[ok][order], y[ok][order], color=st["color"], ls=st["ls"], marker=st["marker"] or ".",
-                    lw=st["lw"], label=m)
-        xl = f"1/{sweep.param}" if x_transform == "inverse" else sweep.param
-        ax.set_xlabel(xl)
+        for c, label in enumerate(sweep.labels):
+            for m in sweep.methods:
+                _sweep_line(ax, xplot, np.array(sweep.series(m, q, c), dtype=float), m, label, c)
+        ax.set_xlabel(f"1/{sweep.param}" if x_transform == "inverse" else sweep.param)
         ax.set_ylabel(f"{q} ({UNITS.get(q, '')})")
         if x_transform == "log":
             ax.set_xscale("log")
+            _limit_ticks(ax, limits)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     return _finish(fig, axes[n:], f"{sweep.case_name}: sweep of {sweep.param}", path)
+
+
+def _sweep_line(ax, xplot, y, method: str, label: str, curve: int) -> None:
+    ok = np.isfinite(y) & np.isfinite(xplot)
+    if not ok.any():
+        return
+    st = _style(method)
+    ls, marker = (CURVE_LINES[curve % len(CURVE_LINES)], CURVE_MARKERS[curve % len(CURVE_MARKERS)]) \
+        if label else (st["ls"], st["marker"] or ".")
+    order = np.argsort(xplot[ok])
+    ax.plot(xplot[ok][order], y[ok][order], color=st["color"], ls=ls, marker=marker, lw=st["lw"],
+            mfc="none" if label and method != "analytic" else None, label=f"{method} {label}".strip())
+
+
+def _sweep_x(xs: np.ndarray, x_transform: str | None):
+    """Plot positions of the swept values, and {position: tick label} of the limits
+    placed on a log axis."""
+    with np.errstate(divide="ignore"):
+        if x_transform == "inverse":
+            return 1.0 / xs, {}
+    if x_transform != "log":
+        return xs, {}
+    finite = xs[np.isfinite(xs) & (xs > 0)]
+    if not finite.size:
+        return xs, {}
+    lo, hi = float(finite.min()), float(finite.max())
+    x = xs.copy()
+    limits = {}
+    if (xs == 0).any():
+        x[xs == 0] = lo / 10.0
+        limits[lo / 10.0] = "0"
+    if np.isposinf(xs).any():
+        x[np.isposinf(xs)] = hi * 10.0
+        limits[hi * 10.0] = "inf"
+    return x, limits
+
+
+def _limit_ticks(ax, limits: dict) -> None:
+    """Decade ticks between the limits, and the limits' own labels."""
+    if not limits:
+        return
+    lo, hi = ax.get_xlim()
+    decades = [10.0 ** k for k in range(math.ceil(math.log10(lo)), math.floor(math.log10(hi)) + 1)]
+    ticks = sorted({t for t in decades if all(abs(math.log10(t / p)) > 0.5 for p in limits)} | set(limits))
+    ax.set_xticks(ticks)
+    ax.set_xticklabels([limits.get(t, f"$10^{{{round(math.log10(t))}}}$") for t in ticks])
+    ax.minorticks_off()

@@ -54,17 +54,42 @@ def run_point(case_name: str, overrides: dict, methods: list, options: dict) -> 
 
 @dataclass
 class Sweep:
-    """Quantities per parameter value and method (``points[i]`` is None if not run)."""
+    """Quantities per curve, parameter value and method.
+
+    ``curves`` maps a label to the case overrides of that curve (one unnamed curve
+    without overrides by default); ``points[c * len(values) + i]`` holds curve ``c`` at
+    ``values[i]`` (None if not run).
+    """
 
     case_name: str
     param: str
     values: list
     methods: list
     points: list = field(default_factory=list)
+    curves: dict = field(default_factory=lambda: {"": {}})
 
-    def value(self, i: int, method: str, quantity: str) -> float:
-        v = (self.points[i] or {}).get(method, {}).get("quantities", {}).get(quantity, math.nan)
+    @property
+    def labels(self) -> list[str]:
+        return list(self.curves)
+
+    def point(self, i: int, curve: int = 0):
+        return self.points[curve * len(self.values) + i]
+
+    def value(self, i: int, method: str, quantity: str, curve: int = 0) -> float:
+        v = (self.point(i, curve) or {}).get(method, {}).get("quantities", {}).get(quantity, math.nan)
         return float(v)
+
+    def series(self, method: str, quantity: str, curve: int | None = None) -> list[float]:
+        """``quantity`` of ``method`` at every value of one curve (all curves, one after
+        the other, when ``curve`` is None); NaN where missing."""
+        cs = range(len(self.curves)) if curve is None else [curve]
+        return [self.value(i, method, quantity, c) for c in cs for i in range(len(self.values))]
+
+    def _where(self, k: int) -> str:
+        """``param=value`` of flat point ``k``, prefixed by its curve's label if any."""
+        c, i = divmod(k, len(self.values))
+        label = self.labels[c]
+        return f"{label + ' ' if label else ''}{self.param}={self.values[i]}"
 
     def quantity_names(self) -> list[str]:
         names: list[str] = []
@@ -76,7 +101,7 @@ class Sweep:
         return names
 
     def errors(self) -> list[str]:
-        return [f"{self.param}={v} {m}: {p[m]['error']}" for v, p in zip(self.values, self.points)
+        return [f"{self._where(k)} {m}: {p[m]['error']}" for k, p in enumerate(self.points)
                 for m in self.methods if p is not None and "error" in p.get(m, {})]
 
     def missing(self) -> list[int]:
@@ -84,27 +109,36 @@ class Sweep:
         return [i for i, p in enumerate(self.points) if p is None]
 
     def table(self, quantities: list[str] | None = None) -> str:
-        """One table: a row per parameter value, a column per (quantity, method)."""
+        """A table per curve: a row per parameter value, a column per (quantity, method)."""
         qs = quantities or self.quantity_names()
+        n = len(self.values)
         cols = [(q, m) for q in qs for m in self.methods
-                if any(math.isfinite(self.value(i, m, q)) for i in range(len(self.values)))]
-        head = f"{self.param:>10} " + "".join(f"{q + ' ' + m:>26}" for q, m in cols)
-        lines = [head, "-" * len(head)]
-        for i, v in enumerate(self.values):
-            if self.points[i] is None:
-                lines.append(f"{v!s:>10}  (not run)")
-                continue
-            cells = []
-            for q, m in cols:
-                x = self.value(i, m, q)
-                failed = "error" in self.points[i].get(m, {})
-                cells.append(f"{'failed' if failed else '-' if math.isnan(x) else f'{x:.6g}':>26}")
-            lines.append(f"{v!s:>10} " + "".join(cells))
-        return "\n".join(lines)
+                if any(math.isfinite(self.value(i, m, q, c)) for i in range(n) for c in range(len(self.curves)))]
+        width = max([26] + [len(q) + len(m) + 3 for q, m in cols])
+        head = f"{self.param:>10} " + "".join(f"{q + ' ' + m:>{width}}" for q, m in cols)
+        blocks = []
+        for c, label in enumerate(self.labels):
+            lines = ([f"{label}: {_assignments(self.curves[label])}"] if label else []) + [head, "-" * len(head)]
+            for i, v in enumerate(self.values):
+                p = self.point(i, c)
+                if p is None:
+                    lines.append(f"{v!s:>10}  (not run)")
+                    continue
+                cells = []
+                for q, m in cols:
+                    x = self.value(i, m, q, c)
+                    failed = "error" in p.get(m, {})
+                    cells.append(f"{'failed' if failed else '-' if math.isnan(x) else f'{x:.6g}':>{width}}")
+                lines.append(f"{v!s:>10} " + "".join(cells))
+            blocks.append("\n".join(lines))
+        return "\n\n".join(blocks)
 
     def to_json(self, path=None) -> str:
-        text = json.dumps({"case": self.case_name, "param": self.param, "values": encode_values(self.values),
-                           "methods": self.methods, "points": self.points}, indent=1, default=str)
+        data = {"case": self.case_name, "param": self.param, "values": encode_values(self.values),
+                "methods": self.methods, "points": self.points}
+        if self.labels != [""]:
+            data["curves"] = encode_values(self.curves)
+        text = json.dumps(data, indent=1, default=str)
         if path is not None:
             atomic_write_text(path, text)
         return text
@@ -112,11 +146,13 @@ class Sweep:
     def to_csv(self, path=None) -> str:
         buf = io.StringIO()
         w = csv.writer(buf)
-        w.writerow([self.param, "method", "quantity", "value"])
-        for i, v in enumerate(self.values):
-            for m in self.methods:
-                for q, x in (self.points[i] or {}).get(m, {}).get("quantities", {}).items():
-                    w.writerow([v, m, q, x])
+        curve = [["curve"]] if self.labels != [""] else [[]]
+        w.writerow(curve[0] + [self.param, "method", "quantity", "value"])
+        for c, label in enumerate(self.labels):
+            for i, v in enumerate(self.values):
+                for m in self.methods:
+                    for q, x in (self.point(i, c) or {}).get(m, {}).get("quantities", {}).items():
+                        w.writerow(([label] if curve[0] else []) + [v, m, q, x])
         if path is not None:
             atomic_write_text(path, buf.getvalue())
         return buf.getvalue()
@@ -124,52 +160,79 @@ class Sweep:
 
 def sweep(case_name: str, param: str, values, methods="all", fixed: dict | None = None,
           options: dict | None = None, workers: int | None = None, dask_address=None,
-          record_dir=None, resume: bool = False, progress: bool = False) -> Sweep:
+          record_dir=None, resume: bool = False, progress: bool = False,
+          curves: dict | None = None) -> Sweep:
     """Run ``case_name`` for each value of ``param`` (plus ``fixed`` overrides).
 
-    Points run in a local process pool (``workers``, default: CPU count), or, with
-    ``dask_address`` (a scheduler address or a ``dask.distributed.Client``/cluster),
-    on a Dask cluster; both give the same numbers. ``record_dir`` keeps each finished
-    point on disk; ``resume`` reuses the points already there (the sweep's case,
-    parameter, values, methods, fixed overrides and options must be the same).
-    An interrupt (Ctrl-C) ends the sweep with the finished points recorded.
+    ``curves`` (label -> overrides, applied over ``fixed``) runs the whole sweep once
+    per curve, all points in one pool: e.g. the micro- and nanoparticle composites of
+    000 Fig 13 against D. Points run in a local process pool (``workers``, default: CPU
+    count), or, with ``dask_address`` (a scheduler address or a
+    ``dask.distributed.Client``/cluster), on a Dask cluster; both give the same numbers.
+    ``record_dir`` keeps each finished point on disk; ``resume`` reuses the points
+    already there (the sweep's case, parameter, values, curves, methods, fixed overrides
+    and options must be the same). An interrupt (Ctrl-C) ends the sweep with the
+    finished points recorded.
     """
     fixed = dict(fixed or {})
     options = options or {}
     values = list(values)
+    curves = _check_curves(curves, param)
     if not values:
         raise CaseError("values must list at least one parameter value")
-    base = build(case_name, **fixed, **{param: values[0]})
-    mlist = resolve_methods(base, methods)
+    bases = [build(case_name, **{**fixed, **over, param: values[0]}) for over in curves.values()]
+    mlist = resolve_methods(bases[0], methods)
     spec = {"case": case_name, "param": param, "values": encode_values(values), "methods": mlist,
             "fixed": encode_values(fixed), "options": encode_values(options)}
-    points: list = [None] * len(values)
+    if list(curves) != [""]:
+        spec["curves"] = encode_values(curves)
+    n = len(values)
     record = Path(record_dir) if record_dir is not None else None
-    if record is not None:
-        points = _prepare_record(record, spec, resume)
-    todo = [i for i, p in enumerate(points) if p is None]
-    tasks = {i: (case_name, {**fixed, param: values[i]}, mlist, options) for i in todo}
+    points = _prepare_record(record, spec, resume, n * len(curves)) if record is not None else [None] * (n * len(curves))
+    todo = [k for k, p in enumerate(points) if p is None]
+    overrides = [{**fixed, **over} for over in curves.values()]
+    tasks = {k: (case_name, {**overrides[k // n], param: values[k % n]}, mlist, options) for k in todo}
 
-    def finished(i: int, point: dict) -> None:
-        points[i] = point
+    def finished(k: int, point: dict) -> None:
+        points[k] = point
         if record is not None:
-            atomic_write_text(record / "points" / f"point_{i:03d}.json",
-                              json.dumps({"index": i, "value": encode_values(values[i]), "point": point},
-                                         default=str))
+            data = {"index": k, "value": encode_values(values[k % n]), "point": point}
+            if list(curves) != [""]:
+                data["curve"] = list(curves)[k // n]
+            atomic_write_text(record / "points" / f"point_{k:03d}.json", json.dumps(data, default=str))
 
-    bar = _progress(len(values), len(values) - len(todo), f"{case_name} {param}", progress)
+    bar = _progress(len(points), len(points) - len(todo), f"{case_name} {param}", progress)
     try:
         if dask_address is not None:
             _run_dask(tasks, dask_address, finished, bar)
         elif workers == 1 or len(tasks) <= 1:
-            for i, t in tasks.items():
-                finished(i, run_point(*t))
+            for k, t in tasks.items():
+                finished(k, run_point(*t))
                 bar.update(1)
         else:
             _run_pool(tasks, workers, finished, bar)
     finally:
         bar.close()
-    return Sweep(case_name=case_name, param=param, values=values, methods=mlist, points=points)
+    return Sweep(case_name=case_name, param=param, values=values, methods=mlist, points=points, curves=curves)
+
+
+def _check_curves(curves: dict | None, param: str) -> dict:
+    """The curves of a sweep: one unnamed curve by default; labels must be distinct
+    non-empty words and no curve may override the swept parameter."""
+    if not curves:
+        return {"": {}}
+    out = {}
+    for label, over in curves.items():
+        if not isinstance(label, str) or not label.strip() or any(ch in label for ch in ":,="):
+            raise CaseError(f"curve label must be a non-empty name without ':', ',' or '=', got {label!r}")
+        if param in over:
+            raise CaseError(f"curve {label!r} sets the swept parameter {param}; give it in --values instead")
+        out[label.strip()] = dict(over)
+    return out
+
+
+def _assignments(over: dict) -> str:
+    return ", ".join(f"{k}={v}" for k, v in over.items()) or "(case defaults)"
 
 
 def load_spec(record_dir) -> dict:
@@ -183,13 +246,13 @@ def load_spec(record_dir) -> dict:
         raise CaseError(f"--resume {record_dir}: {SPEC_FILE} is not valid JSON ({e})") from None
 
 
-def _prepare_record(record: Path, spec: dict, resume: bool) -> list:
-    points: list = [None] * len(spec["values"])
+def _prepare_record(record: Path, spec: dict, resume: bool, count: int) -> list:
+    points: list = [None] * count
     (record / "points").mkdir(parents=True, exist_ok=True)
     spec_path = record / SPEC_FILE
     if resume and spec_path.exists():
         old = load_spec(record)
-        diff = [k for k in spec if old.get(k) != spec[k]]
+        diff = [k for k in {**old, **spec} if old.get(k) != spec.get(k)]
         if diff:
             raise CaseError(f"--resume {record}: the recorded sweep differs in {', '.join(diff)} "
                             f"(recorded: {', '.join(f'{k}={old.get(k)!r}' for k in diff)})")
