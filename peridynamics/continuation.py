@@ -101,8 +101,10 @@ def _first_arc(opts: NewtonOptions) -> float:
 def arc_length(eq: Equations, opts: NewtonOptions, u: np.ndarray, out: NewtonOutcome,
                failures: list) -> np.ndarray:
     """Follow the path from (u, 0) to load factor 1 (module docstring); fills ``out.history``
-    (one entry per arc: load factor, residuals, arc length, path tangent's t_lam, negative
-    pivots of the last factorisation) and returns the independent DOFs at lam = 1."""
+    (one entry per arc: load factor, residuals, arc length, the path tangent's t_lam at the
+    converged point (at the start for the final load step), whether a limit point was passed
+    (t_lam changed sign), |v_f|, negative pivots of the last factorisation) and returns the
+    independent DOFs at lam = 1."""
     free, fixed = eq.free, eq.fixed
     v = u.copy()
     v[fixed] = 0.0
@@ -138,22 +140,32 @@ def arc_length(eq: Equations, opts: NewtonOptions, u: np.ndarray, out: NewtonOut
         if final:
             v, hist, ev, (alphas, times) = got
             out.history.append(step_record(1.0, hist, alphas, times, arc_length=step, t_lam=t.lam,
-                                           negative_pivots=pivots, path="final load step"))
+                                           negative_pivots=pivots, limit_point=False,
+                                           displacement_norm=float(np.linalg.norm(v[free])),
+                                           path="final load step"))
             out.iterations += len(hist) - 1
             out.last = ev
             return v
         v, lam, hist, ev = got
-        out.history.append(step_record(lam, hist, [], [], arc_length=step, t_lam=t.lam,
-                                       negative_pivots=pivots, path="arc"))
-        out.iterations += len(hist) - 1
-        eq.note(f"arc converged at load {lam:.5g} (t_lam {t.lam:.3g}, {pivots} negative pivots)")
         g, b = _path_tangent(eq, ev)
-        t = _Tangent(b, U, t)
+        t_new = _Tangent(b, U, t)
+        # t_lam changes sign across a limit point (a tangent eigenvalue through zero: the
+        # negative-pivot count changes by one there)
+        limit = t_new.lam * t.lam < 0.0
+        out.history.append(step_record(lam, hist, [], [], arc_length=step, t_lam=t_new.lam,
+                                       negative_pivots=pivots, limit_point=limit,
+                                       displacement_norm=float(np.linalg.norm(v[free])), path="arc"))
+        out.iterations += len(hist) - 1
+        eq.note(f"arc converged at load {lam:.5g} (path tangent t_lam {t_new.lam:.3g}, {pivots} negative "
+                f"pivots{'; limit point passed' if limit else ''})")
+        t = t_new
         ds = step * min(2.0, max(0.5, math.sqrt(opts.arc_iterations / max(len(hist) - 1, 1))))
     loads = [h["load"] for h in out.history]
-    turned = any(b < a for a, b in zip(loads, loads[1:]))
+    limits = [f"{h['load']:.4g}" for h in out.history if h["limit_point"]]
     raise SolverError(
         f"CPD arc-length continuation did not reach load factor 1 in max_arcs = {opts.max_arcs} arcs "
         f"(load factors reached: {', '.join(f'{x:.4g}' for x in loads)}"
-        + (f"; the path turns back at a limit point near {max(loads):.4g}" if turned else "")
-        + "); increase max_arcs or the first load step")
+        + (f"; limit points passed near load factors {', '.join(limits)}: the equilibrium path from the "
+           "reference state turns back there" if limits else "")
+        + "); increase max_arcs or the first load step" + ("" if not limits else
+        ", or reduce the load below the first limit point (for C3 < 0 materials: use nu >= 1/4)"))

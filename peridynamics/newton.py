@@ -245,7 +245,8 @@ def _advice(f: StepFailure) -> str:
     if "indefinite" in f.reason:
         return ("the state is unstable (negative tangent eigenvalues: in 3D the free faces of a material "
                 "with C3 < 0, i.e. nu < 1/4, soften and the Newton step leaves the quadratic basin); "
-                "increase load_steps, shrink the free faces, or use nu >= 1/4 (or Dn, Dt > 0)")
+                "use path = arc_length (the path may have a limit point), increase load_steps, shrink the free "
+                "faces, or use nu >= 1/4 (or Dn, Dt > 0)")
     if "max_iter" in f.reason:
         return "increase load_steps or max_iter, or loosen tol"
     return "increase load_steps, loosen tol, or check for points crushed by a too-large deformation"

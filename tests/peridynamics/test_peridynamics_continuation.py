@@ -53,6 +53,13 @@ def test_arc_length_passes_the_snap_through_of_a_two_bond_truss():
     assert loads[: first_turn + 1].max() <= 1.0 / 1.5 * (1 + 1e-9)               # not above the limit load
     assert loads.min() < 0                                                         # and snapped through
     assert out.history[0]["t_lam"] > 0 and any(h["t_lam"] < 0 for h in out.history)
+    # two limit points flagged, each on the first arc past it: the limit load (t_lam turns negative)
+    # and the snap-back minimum (t_lam positive again)
+    flags = [h["limit_point"] for h in out.history]
+    assert sum(flags) == 2
+    i, j = [k for k, f in enumerate(flags) if f]
+    signs = np.sign([h["t_lam"] for h in out.history])
+    assert np.all(signs[:i] > 0) and np.all(signs[i:j] < 0) and np.all(signs[j:] > 0)
 
 
 def test_arc_length_reaches_the_load_control_equilibrium_at_finite_stretch():
