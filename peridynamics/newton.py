@@ -52,6 +52,15 @@ class NewtonOptions:
     #: receives one line per evaluation, Newton iteration and line-search trial (residual,
     #: wall time); None sends them to the ``peridynamics.newton`` logger at INFO level
     report: Callable[[str], None] | None = None
+    #: ``"load"``: Newton at the load factors (003 Algorithm 1); ``"arc_length"``: Riks
+    #: normal-plane arc-length continuation (:mod:`peridynamics.continuation`), whose first
+    #: arc reaches about the first load factor, ending with Newton at load factor 1
+    path: str = "load"
+    #: arc-length continuation: corrector iterations aimed at per arc (the arc length follows
+    #: sqrt(aim / used), at most doubled), normalised residual of the intermediate arcs, arcs allowed
+    arc_iterations: int = 4
+    arc_tol: float = 1e-6
+    max_arcs: int = 40
 
 
 @dataclass
@@ -236,10 +245,238 @@ def _advice(f: StepFailure) -> str:
     if "indefinite" in f.reason:
         return ("the state is unstable (negative tangent eigenvalues: in 3D the free faces of a material "
                 "with C3 < 0, i.e. nu < 1/4, soften and the Newton step leaves the quadratic basin); "
-                "increase load_steps, shrink the free faces, or use nu >= 1/4 (or Dn, Dt > 0)")
+                "use path = arc_length (the path may have a limit point), increase load_steps, shrink the free "
+                "faces, or use nu >= 1/4 (or Dn, Dt > 0)")
     if "max_iter" in f.reason:
         return "increase load_steps or max_iter, or loosen tol"
     return "increase load_steps, loosen tol, or check for points crushed by a too-large deformation"
+
+class Equations:
+    """The reduced equilibrium equations of one solve, G(v, lam) = R_f(v) - lam f_ext,f = 0.
+
+    v are the independent DOFs (``system.dofs``) with the fixed ones at lam * u_bar; R_f the
+    free part of the internal force (the CPD residual, 003 Eq 20). Holds what the Newton
+    and path-following drivers share: the DOF split, the K_ff map (:class:`ReducedMatrix`),
+    one :class:`TangentSolver`, one tangent buffer and the progress lines.
+    """
+
+    def __init__(self, system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray, f_ext: np.ndarray,
+                 opts: NewtonOptions, solver: str = "auto"):
+        self.system = system
+        dofs = self.dofs = system.dofs
+        self.fixed = np.unique(dofs.index[fixed_dofs])
+        self.free = np.setdiff1d(np.arange(dofs.n), self.fixed)
+        self.ubar = np.zeros(dofs.n)
+        self.ubar[dofs.index[fixed_dofs]] = u_bar[fixed_dofs]
+        self.fext = dofs.reduce(np.asarray(f_ext, dtype=float))
+        self.red = ReducedMatrix(system, self.free)
+        self.lin = TangentSolver(reuse=opts.reuse_factorization, kind=solver)
+        self.times = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
+        # one tangent buffer and one reduced-matrix buffer, refilled by every evaluation: only
+        # the current tangent is ever used (the factors live in the direct solver)
+        self._tangent_buffer = np.empty(system.pattern.nnz)
+        self._reduced_buffer = np.empty(len(self.red.indices)) if self.red.injective else None
+        self._reduced = (None, None)
+        self._say = opts.report or log.info
+        self._t0 = time.perf_counter()
+
+    def note(self, msg: str) -> None:
+        self._say(f"CPD Newton [{time.perf_counter() - self._t0:8.1f} s] {msg}")
+
+    def evaluate(self, v: np.ndarray, tangent: bool):
+        t0 = time.perf_counter()
+        ev = self.system.evaluate(self.dofs.expand(v), tangent, out=self._tangent_buffer if tangent else None)
+        dt = time.perf_counter() - t0
+        self.times["assembly" if tangent else "line_search"] += dt
+        self.note(f"  {'residual + tangent' if tangent else 'residual only'} evaluated in {dt:.1f} s")
+        return ev
+
+    def residual(self, ev, lam: float) -> np.ndarray:
+        """G on the free DOFs at load factor ``lam``."""
+        return self.dofs.reduce(ev.residual.ravel())[self.free] - lam * self.fext[self.free]
+
+    def energy(self, ev, v: np.ndarray, lam: float) -> float:
+        """Potential energy W - lam f_ext . v (free DOFs)."""
+        return ev.energy - lam * float(self.fext[self.free] @ v[self.free])
+
+    def load_derivative(self, ev) -> np.ndarray:
+        """dG/dlam on the free DOFs: K_fc u_bar_c - f_ext,f with the tangent of ``ev``."""
+        ku = self.dofs.reduce(ev.tangent @ self.dofs.expand(self.ubar))
+        return ku[self.free] - self.fext[self.free]
+
+    def solve(self, ev, rhs: np.ndarray, rtol: float) -> np.ndarray:
+        """K_ff(ev) x = rhs to the relative residual ``rtol`` (K_ff mapped once per evaluation)."""
+        if self._reduced[0] is not ev:
+            self._reduced = (ev, self.red(ev.tangent.data, out=self._reduced_buffer))
+        t0 = time.perf_counter()
+        x = self.lin.solve(self._reduced[1], rhs, rtol=rtol)
+        self.times["linear_solve"] += time.perf_counter() - t0
+        self.note(f"  linear solve in {time.perf_counter() - t0:.1f} s ({self.lin.summary()}, asked {rtol:.1e})")
+        return x
+
+    def negative_pivots(self) -> int:
+        """Negative pivots of the last factorisation (the tangent's negative eigenvalues at the
+        state it was factorised at; -1 before any or when the pivoting hides them)."""
+        return self.lin.direct.negative_pivots() if self.lin.factored else -1
+
+    def failure(self, lam: float, residuals: list, reason: str) -> StepFailure:
+        if self.lin.factored and not self.lin.definite:
+            reason += f"; tangent indefinite ({self.lin.direct.negative_pivots()} negative pivots)"
+        return StepFailure(lam, residuals, reason)
+
+
+def newton_at_load(eq: Equations, v: np.ndarray, lam1: float, scale: float | None, opts: NewtonOptions,
+                   contraction: list):
+    """Newton iterations at the fixed load factor ``lam1`` from the start ``v`` (fixed DOFs
+    already at lam1 u_bar): (v, residuals, ev, (line-search steps, times)) or a StepFailure.
+
+    ``scale`` normalises the residual (None: the first residual); ``contraction`` holds the
+    largest r_(k+1) / r_k^2 seen in the solve (updated here).
+    """
+    free = eq.free
+    res_hist = []
+    steps = []
+    times = []                                   # (wall, cpu) per iteration
+    clock = (time.perf_counter(), time.process_time())
+    try:
+        ev = eq.evaluate(v, True)
+    except ValueError as e:
+        return eq.failure(lam1, res_hist, f"start of step: {e}")
+    for it in range(opts.max_iter + 1):
+        R = eq.residual(ev, lam1)
+        rn = float(np.linalg.norm(R))
+        if not np.isfinite(rn):
+            return eq.failure(lam1, res_hist, "non-finite residual")
+        if scale is None or not scale > 0:
+            scale = max(rn, 1e-300)
+        res_hist.append(rn / scale)
+        eq.note(f"load {lam1:.4g} iteration {it}: normalised residual {rn / scale:.3e}")
+        if rn <= opts.tol * scale or rn == 0.0:
+            return v, res_hist, ev, (steps, times)
+        if it == opts.max_iter:
+            break
+        if ev.tangent is None:
+            ev = eq.evaluate(v, True)
+        eta = forcing(rn / scale, opts.tol)
+        try:
+            du = eq.solve(ev, -R, eta)
+        except RuntimeError as e:
+            return eq.failure(lam1, res_hist, f"singular tangent ({e})")
+        if not np.all(np.isfinite(du)):
+            return eq.failure(lam1, res_hist, "non-finite Newton increment (singular tangent)")
+        # full Newton step, evaluated with the tangent (reused by the next iteration
+        # when accepted) unless the step is expected to converge: the next residual
+        # predicted from the quadratic constant seen so far is below 0.1 tol (the
+        # forcing term is then at its tol floor); backtracking with energy-only
+        # evaluations otherwise
+        r_now = rn / scale
+        if len(res_hist) > 1 and res_hist[-2] > 0:
+            contraction[0] = max(contraction[0], r_now / res_hist[-2] ** 2)
+        with_tangent = contraction[0] * r_now ** 2 > 0.1 * opts.tol
+        w0 = eq.energy(ev, v, lam1)
+        alpha = 1.0
+        accepted = None
+        why = "line search found no decrease"
+        for trial_no in range(9 if opts.line_search else 1):
+            trial = v.copy()
+            trial[free] += alpha * du
+            try:
+                et = eq.evaluate(trial, trial_no == 0 and with_tangent)
+            except ValueError as e:          # points collapsed: shorten the step
+                why = f"line search: {e}"
+                eq.note(f"  trial step {alpha:g} rejected: {e}")
+                alpha *= 0.5
+                continue
+            rt = np.linalg.norm(eq.residual(et, lam1))
+            wt = eq.energy(et, trial, lam1)
+            # the energy decrease is a valid acceptance test only for a positive definite
+            # tangent (a descent direction towards a minimum); with negative pivots the
+            # equilibrium is a saddle and the Newton step may lower the energy while leaving
+            # it (measured: 0.8 x 0.6 x 0.6 cuboid, residual 0.19 -> 128 accepted on energy),
+            # so only the residual norm (the merit ||R||^2, for which the Newton step is
+            # always a descent direction) decides
+            ok = not opts.line_search or (np.isfinite(rt) and (rt < rn or (eq.lin.definite and wt <= w0)))
+            eq.note(f"  trial step {alpha:g}: normalised residual {rt / scale:.3e}, energy change "
+                    f"{wt - w0:.3e} ({'accepted' if ok else 'rejected'})")
+            if ok:
+                accepted = (trial, et)
+                break
+            alpha *= 0.5
+        if accepted is None:
+            return eq.failure(lam1, res_hist, why)
+        v, ev = accepted
+        steps.append(alpha)
+        now = (time.perf_counter(), time.process_time())
+        times.append((now[0] - clock[0], now[1] - clock[1]))
+        clock = now
+    return eq.failure(lam1, res_hist, f"max_iter = {opts.max_iter} reached")
+
+
+def step_record(load: float, hist: list, alphas: list, times: list, **extra) -> dict:
+    """One converged load step of the Newton history. Per iteration: the linear solve and the
+    evaluation of the next iterate (its residual and, unless the step is expected to converge,
+    its tangent); the first iteration of a step also evaluates the tangent at its start."""
+    return {"load": load, "residuals": hist, "line_search_steps": alphas,
+            "iteration_wall_s": [w for w, _ in times], "iteration_cpu_s": [c for _, c in times], **extra}
+
+
+def not_converged(f: StepFailure, opts: NewtonOptions, what: str) -> SolverError:
+    hist = ", ".join(f"{r:.3g}" for r in f.residuals)
+    return SolverError(
+        f"CPD Newton-Raphson did not converge to tol = {opts.tol:g} at load factor {f.load:.4g} "
+        f"after {what} (failing step: {f.reason}; its normalised residuals [{hist}]); {_advice(f)}")
+
+
+def _load_stepping(eq: Equations, opts: NewtonOptions, u: np.ndarray, out: NewtonOutcome,
+                   failures: list) -> np.ndarray:
+    """Load control (003 Algorithm 1): Newton at the given load factors, a secant predictor
+    from the second step on, bisection of a failing step. Returns the independent DOFs."""
+    free, fixed = eq.free, eq.fixed
+    prev = {"u": None, "lam": 0.0}
+    # largest r_(k+1) / r_k^2 seen in the solve (1e-2 before any): a near-singular tangent (the
+    # soft surface modes of a C3 < 0 material) raises it by orders of magnitude
+    contraction = [1e-2]
+    targets = list(opts.load_factors) if opts.load_factors else \
+        [k / opts.load_steps for k in range(1, opts.load_steps + 1)]
+    lam = 0.0
+    cuts = 0
+    while targets:
+        target = targets[0]
+        v = u.copy()
+        v[fixed] = target * eq.ubar[fixed]
+        scale = None
+        if opts.extrapolate and prev["u"] is not None and lam > prev["lam"]:
+            # the normalisation is the residual right after the boundary increment (003
+            # Table 3); the secant predictor below can make the first residual itself
+            # round-off small (linear problems), which would make tol unreachable
+            try:
+                scale = float(np.linalg.norm(eq.residual(eq.evaluate(v, False), target)))
+            except ValueError:
+                scale = None
+            # secant predictor: continue the last converged increment (free DOFs)
+            v[free] += (target - lam) / (lam - prev["lam"]) * (u[free] - prev["u"][free])
+        got = newton_at_load(eq, v, target, scale, opts, contraction)
+        if isinstance(got, StepFailure):
+            failures.append(got)
+            cuts += 1
+            if cuts > opts.max_cuts:
+                raise not_converged(failures[-1], opts, f"{opts.max_cuts} step cuts")
+            eq.note(f"load {target:.4g} failed ({got.reason}): bisected")
+            targets.insert(0, 0.5 * (lam + target))      # bisect the step
+            continue
+        v, hist, ev, (alphas, times) = got
+        out.history.append(step_record(target, hist, alphas, times, negative_pivots=eq.negative_pivots()))
+        out.iterations += len(hist) - 1
+        out.last = ev
+        prev["u"], prev["lam"] = u, lam
+        u = v
+        lam = target
+        targets.pop(0)
+    return u
+
+
+#: ``NewtonOptions.path`` values: load control (003 Algorithm 1) or arc-length continuation
+PATHS = ("load", "arc_length")
 
 
 def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
@@ -250,185 +487,28 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     ``u_bar`` and ``f_ext`` are full (node) DOF vectors at load factor 1; the unknowns
     are the system's independent DOFs (``system.dofs``: the compliant overlap identifies
     the DOFs of perfect directions). ``u0`` and the returned ``u`` are full DOF vectors.
+    ``opts.path`` picks the driver: ``"load"`` (load steps, :func:`_load_stepping`) or
+    ``"arc_length"`` (:func:`peridynamics.continuation.arc_length`).
     """
-    dofs = system.dofs
-    fixed = np.unique(dofs.index[fixed_dofs])
-    free = np.setdiff1d(np.arange(dofs.n), fixed)
-    ubar = np.zeros(dofs.n)
-    ubar[dofs.index[fixed_dofs]] = u_bar[fixed_dofs]
-    fext = dofs.reduce(np.asarray(f_ext, dtype=float))
-    red = ReducedMatrix(system, free)
-    u = np.zeros(dofs.n)
+    if opts.path not in PATHS:
+        raise ValueError(f"path must be one of {', '.join(PATHS)}, got {opts.path!r}")
+    eq = Equations(system, fixed_dofs, u_bar, f_ext, opts, solver)
+    u = np.zeros(eq.dofs.n)
     if u0 is not None:
-        u[dofs.index] = u0.astype(float).ravel()
+        u[eq.dofs.index] = u0.astype(float).ravel()
     out = NewtonOutcome(u=u)
-    lin = TangentSolver(reuse=opts.reuse_factorization, kind=solver)
-    prev = {"u": None, "lam": 0.0}
-    # largest r_(k+1) / r_k^2 seen in the solve (1e-2 before any): a near-singular tangent (the
-    # soft surface modes of a C3 < 0 material) raises it by orders of magnitude
-    contraction = [1e-2]
-    t = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
     failures: list[StepFailure] = []
+    if opts.path == "arc_length":
+        from .continuation import arc_length
 
-    # one tangent buffer and one reduced-matrix buffer, refilled by every evaluation: only
-    # the current tangent is ever used (the factors live in the direct solver)
-    tangent_buffer = np.empty(system.pattern.nnz)
-    reduced_buffer = np.empty(len(red.indices)) if red.injective else None
-
-    say = opts.report or log.info
-    t_solve = time.perf_counter()
-
-    def note(msg):
-        say(f"CPD Newton [{time.perf_counter() - t_solve:8.1f} s] {msg}")
-
-    def evaluate(v, tangent):
-        t0 = time.perf_counter()
-        ev = system.evaluate(dofs.expand(v), tangent, out=tangent_buffer if tangent else None)
-        dt = time.perf_counter() - t0
-        t["assembly" if tangent else "line_search"] += dt
-        note(f"  {'residual + tangent' if tangent else 'residual only'} evaluated in {dt:.1f} s")
-        return ev
-
-    def residual(ev):
-        return dofs.reduce(ev.residual.ravel())
-
-    def attempt(lam0, lam1):
-        """Newton iterations from load factor lam0 to lam1: (u, residuals, ev, steps) or a StepFailure."""
-        v = u.copy()
-        v[fixed] = lam1 * ubar[fixed]
-        res_hist = []
-        steps = []
-        times = []                                   # (wall, cpu) per iteration
-        scale = None
-
-        def fail(reason):
-            if lin.factored and not lin.definite:
-                reason += f"; tangent indefinite ({lin.direct.negative_pivots()} negative pivots)"
-            return StepFailure(lam1, res_hist, reason)
-
-        if opts.extrapolate and prev["u"] is not None and lam0 > prev["lam"]:
-            # the normalisation is the residual right after the boundary increment (003
-            # Table 3); the secant predictor below can make the first residual itself
-            # round-off small (linear problems), which would make tol unreachable
-            try:
-                scale = float(np.linalg.norm(residual(evaluate(v, False))[free] - lam1 * fext[free]))
-            except ValueError:
-                scale = None
-            # secant predictor: continue the last converged increment (free DOFs)
-            v[free] += (lam1 - lam0) / (lam0 - prev["lam"]) * (u[free] - prev["u"][free])
-
-        clock = (time.perf_counter(), time.process_time())
-        try:
-            ev = evaluate(v, True)
-        except ValueError as e:
-            return fail(f"start of step: {e}")
-        for it in range(opts.max_iter + 1):
-            R = residual(ev)[free] - lam1 * fext[free]
-            rn = float(np.linalg.norm(R))
-            if not np.isfinite(rn):
-                return fail("non-finite residual")
-            if scale is None or not scale > 0:
-                scale = max(rn, 1e-300)
-            res_hist.append(rn / scale)
-            note(f"load {lam1:.4g} iteration {it}: normalised residual {rn / scale:.3e}")
-            if rn <= opts.tol * scale or rn == 0.0:
-                return v, res_hist, ev, (steps, times)
-            if it == opts.max_iter:
-                return fail(f"max_iter = {opts.max_iter} reached")
-            if ev.tangent is None:
-                ev = evaluate(v, True)
-            eta = forcing(rn / scale, opts.tol)
-            t0 = time.perf_counter()
-            try:
-                du = lin.solve(red(ev.tangent.data, out=reduced_buffer), -R, rtol=eta)
-            except RuntimeError as e:
-                return fail(f"singular tangent ({e})")
-            t["linear_solve"] += time.perf_counter() - t0
-            note(f"  linear solve in {time.perf_counter() - t0:.1f} s ({lin.summary()}, asked {eta:.1e})")
-            if not np.all(np.isfinite(du)):
-                return fail("non-finite Newton increment (singular tangent)")
-            # full Newton step, evaluated with the tangent (reused by the next iteration
-            # when accepted) unless the step is expected to converge: the next residual
-            # predicted from the quadratic constant seen so far is below 0.1 tol (the
-            # forcing term is then at its tol floor); backtracking with energy-only
-            # evaluations otherwise
-            r_now = rn / scale
-            if len(res_hist) > 1 and res_hist[-2] > 0:
-                contraction[0] = max(contraction[0], r_now / res_hist[-2] ** 2)
-            with_tangent = contraction[0] * r_now ** 2 > 0.1 * opts.tol
-            w0 = ev.energy - lam1 * float(fext[free] @ v[free])
-            alpha = 1.0
-            accepted = None
-            why = "line search found no decrease"
-            for trial_no in range(9 if opts.line_search else 1):
-                trial = v.copy()
-                trial[free] += alpha * du
-                try:
-                    et = evaluate(trial, trial_no == 0 and with_tangent)
-                except ValueError as e:          # points collapsed: shorten the step
-                    why = f"line search: {e}"
-                    note(f"  trial step {alpha:g} rejected: {e}")
-                    alpha *= 0.5
-                    continue
-                rt = np.linalg.norm(residual(et)[free] - lam1 * fext[free])
-                wt = et.energy - lam1 * float(fext[free] @ trial[free])
-                # the energy decrease is a valid acceptance test only for a positive definite
-                # tangent (a descent direction towards a minimum); with negative pivots the
-                # equilibrium is a saddle and the Newton step may lower the energy while leaving
-                # it (measured: 0.8 x 0.6 x 0.6 cuboid, residual 0.19 -> 128 accepted on energy),
-                # so only the residual norm (the merit ||R||^2, for which the Newton step is
-                # always a descent direction) decides
-                ok = not opts.line_search or (np.isfinite(rt) and (rt < rn or (lin.definite and wt <= w0)))
-                note(f"  trial step {alpha:g}: normalised residual {rt / scale:.3e}, energy change "
-                     f"{wt - w0:.3e} ({'accepted' if ok else 'rejected'})")
-                if ok:
-                    accepted = (trial, et)
-                    break
-                alpha *= 0.5
-            if accepted is None:
-                return fail(why)
-            v, ev = accepted
-            steps.append(alpha)
-            now = (time.perf_counter(), time.process_time())
-            times.append((now[0] - clock[0], now[1] - clock[1]))
-            clock = now
-        return fail(f"max_iter = {opts.max_iter} reached")
-
-    targets = list(opts.load_factors) if opts.load_factors else \
-        [k / opts.load_steps for k in range(1, opts.load_steps + 1)]
-    lam = 0.0
-    cuts = 0
-    while targets:
-        target = targets[0]
-        got = attempt(lam, target)
-        if isinstance(got, StepFailure):
-            failures.append(got)
-            cuts += 1
-            if cuts > opts.max_cuts:
-                f = failures[-1]
-                hist = ", ".join(f"{r:.3g}" for r in f.residuals)
-                raise SolverError(
-                    f"CPD Newton-Raphson did not converge to tol = {opts.tol:g} at load factor {f.load:.4g} "
-                    f"after {opts.max_cuts} step cuts (failing step: {f.reason}; its normalised residuals "
-                    f"[{hist}]); {_advice(f)}")
-            note(f"load {target:.4g} failed ({got.reason}): bisected")
-            targets.insert(0, 0.5 * (lam + target))      # bisect the step
-            continue
-        u, hist, ev, (alphas, times) = got
-        # per iteration: the linear solve and the evaluation of the next iterate (its
-        # residual and, unless the step is expected to converge, its tangent); the first
-        # iteration of a step also evaluates the tangent at the step's start
-        out.history.append({"load": target, "residuals": hist, "line_search_steps": alphas,
-                            "iteration_wall_s": [w for w, _ in times], "iteration_cpu_s": [c for _, c in times]})
-        out.iterations += len(hist) - 1
-        out.last = ev
-        prev["u"], prev["lam"] = out.u, lam
-        out.u = u
-        lam = target
-        targets.pop(0)
-    out.u = dofs.expand(u)
-    out.timings = t
-    out.linear = dict(lin.stats, solver=lin.name, symbolic_analyses=lin.direct.stats["analyses"], **{f"time_{k}": v for k, v in lin.times.items()},
+        u = arc_length(eq, opts, u, out, failures)
+    else:
+        u = _load_stepping(eq, opts, u, out, failures)
+    out.u = eq.dofs.expand(u)
+    out.timings = eq.times
+    lin = eq.lin
+    out.linear = dict(lin.stats, solver=lin.name, symbolic_analyses=lin.direct.stats["analyses"],
+                      **{f"time_{k}": v for k, v in lin.times.items()},
                       failed_attempts=[{"load": f.load, "reason": f.reason, "residuals": f.residuals}
                                        for f in failures])
     return out

@@ -25,7 +25,7 @@ from interfaces.sparse import KINDS
 from .assembly import CPDSystem, MaterialBlock, neighbour_lists
 from .discretization import Discretization, discretize
 from .interface import Springs, check_laws, split_band
-from .newton import NewtonOptions, newton_solve
+from .newton import PATHS, NewtonOptions, newton_solve
 from .parameters import calibrate, cpd_from_lame, lattice_ratios
 
 #: tuple count per tangent evaluation above which :func:`solve` warns about the run time
@@ -36,7 +36,7 @@ TUPLE_WARNING = 3e8
 SECONDS_PER_TUPLE = 3.5e-8
 
 OPTIONS = ("h", "delta_factor", "overlap", "load_steps", "tol", "max_iter", "calibration",
-           "constants", "line_search", "grid", "solver", "progress")
+           "constants", "line_search", "grid", "solver", "progress", "path")
 #: estimated seconds per tangent evaluation above which the Newton progress is printed
 #: (``progress`` None: automatic)
 PROGRESS_AFTER = 10.0
@@ -92,7 +92,10 @@ def _options(case, options: dict) -> dict:
     kind = o.get("solver", "auto")
     if kind not in KINDS:
         raise CaseError(f"cpd.solver must be one of {', '.join(KINDS)}, got {kind!r}")
-    return {"h": h, "delta_factor": df, "overlap": ov, "load_steps": steps, "tol": tol,
+    path = o.get("path", "load")
+    if path not in PATHS:
+        raise CaseError(f"cpd.path must be one of {', '.join(PATHS)}, got {path!r}")
+    return {"path": path, "h": h, "delta_factor": df, "overlap": ov, "load_steps": steps, "tol": tol,
             "max_iter": int(max_iter), "calibration": cal, "constants": o.get("constants"),
             "line_search": bool(o.get("line_search", True)), "grid": o.get("grid", "vertex"),
             "solver": kind, "progress": _progress_option(o.get("progress"))}
@@ -251,7 +254,10 @@ def solve(case, **options) -> Result:
     ``"lattice"`` (constants rescaled to the grid's interior energy density),
     ``constants`` {material: [C1, C2, C3]} to bypass the (E, nu) conversion,
     ``line_search`` (True), ``grid`` ``"vertex"`` (points on boundaries and straight
-    interfaces; default) or ``"cell"`` (cell centres), ``progress`` (None: one line per
+    interfaces; default) or ``"cell"`` (cell centres), ``path`` ``"load"`` (Newton at the
+    load steps, 003 Algorithm 1; default) or ``"arc_length"`` (Riks arc-length continuation
+    from the reference state, first arc about the first load step, last step Newton at
+    load factor 1: :mod:`peridynamics.continuation`), ``progress`` (None: one line per
     evaluation, Newton iteration and line-search trial on stderr when a tangent evaluation
     is estimated above ``PROGRESS_AFTER`` seconds, to the ``peridynamics.newton`` logger at
     INFO level otherwise; True / False force either).
@@ -293,7 +299,7 @@ def solve(case, **options) -> Result:
     ls = o["load_steps"]
     nopt = NewtonOptions(load_steps=ls if isinstance(ls, int) else len(ls),
                          load_factors=ls if isinstance(ls, tuple) else (), tol=o["tol"],
-                         max_iter=o["max_iter"], line_search=o["line_search"],
+                         max_iter=o["max_iter"], line_search=o["line_search"], path=o["path"],
                          report=(lambda line: print(line, file=sys.stderr, flush=True)) if show else None)
     t0 = time.perf_counter()
     outcome = newton_solve(system, fixed, u_bar, f_ext, nopt, solver=o["solver"])
