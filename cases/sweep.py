@@ -72,6 +72,11 @@ class Sweep:
     def labels(self) -> list[str]:
         return list(self.curves)
 
+    @property
+    def named(self) -> bool:
+        """True when the sweep has labelled curves (not the one default curve)."""
+        return _named(self.curves)
+
     def point(self, i: int, curve: int = 0):
         return self.points[curve * len(self.values) + i]
 
@@ -136,7 +141,7 @@ class Sweep:
     def to_json(self, path=None) -> str:
         data = {"case": self.case_name, "param": self.param, "values": encode_values(self.values),
                 "methods": self.methods, "points": self.points}
-        if self.labels != [""]:
+        if self.named:
             data["curves"] = encode_values(self.curves)
         text = json.dumps(data, indent=1, default=str)
         if path is not None:
@@ -146,13 +151,14 @@ class Sweep:
     def to_csv(self, path=None) -> str:
         buf = io.StringIO()
         w = csv.writer(buf)
-        curve = [["curve"]] if self.labels != [""] else [[]]
-        w.writerow(curve[0] + [self.param, "method", "quantity", "value"])
+        lead = ["curve"] if self.named else []
+        w.writerow(lead + [self.param, "method", "quantity", "value"])
         for c, label in enumerate(self.labels):
+            row = [label] if self.named else []
             for i, v in enumerate(self.values):
                 for m in self.methods:
                     for q, x in (self.point(i, c) or {}).get(m, {}).get("quantities", {}).items():
-                        w.writerow(([label] if curve[0] else []) + [v, m, q, x])
+                        w.writerow(row + [v, m, q, x])
         if path is not None:
             atomic_write_text(path, buf.getvalue())
         return buf.getvalue()
@@ -180,24 +186,25 @@ def sweep(case_name: str, param: str, values, methods="all", fixed: dict | None 
     curves = _check_curves(curves, param)
     if not values:
         raise CaseError("values must list at least one parameter value")
-    bases = [build(case_name, **{**fixed, **over, param: values[0]}) for over in curves.values()]
-    mlist = resolve_methods(bases[0], methods)
+    overrides = [{**fixed, **over} for over in curves.values()]
+    first = [build(case_name, **over, **{param: values[0]}) for over in overrides]  # checks every curve's input
+    mlist = resolve_methods(first[0], methods)
     spec = {"case": case_name, "param": param, "values": encode_values(values), "methods": mlist,
             "fixed": encode_values(fixed), "options": encode_values(options)}
-    if list(curves) != [""]:
+    if _named(curves):
         spec["curves"] = encode_values(curves)
     n = len(values)
     record = Path(record_dir) if record_dir is not None else None
-    points = _prepare_record(record, spec, resume, n * len(curves)) if record is not None else [None] * (n * len(curves))
+    count = n * len(curves)
+    points = _prepare_record(record, spec, resume, count) if record is not None else [None] * count
     todo = [k for k, p in enumerate(points) if p is None]
-    overrides = [{**fixed, **over} for over in curves.values()]
     tasks = {k: (case_name, {**overrides[k // n], param: values[k % n]}, mlist, options) for k in todo}
 
     def finished(k: int, point: dict) -> None:
         points[k] = point
         if record is not None:
             data = {"index": k, "value": encode_values(values[k % n]), "point": point}
-            if list(curves) != [""]:
+            if _named(curves):
                 data["curve"] = list(curves)[k // n]
             atomic_write_text(record / "points" / f"point_{k:03d}.json", json.dumps(data, default=str))
 
@@ -229,6 +236,10 @@ def _check_curves(curves: dict | None, param: str) -> dict:
             raise CaseError(f"curve {label!r} sets the swept parameter {param}; give it in --values instead")
         out[label.strip()] = dict(over)
     return out
+
+
+def _named(curves: dict) -> bool:
+    return list(curves) != [""]
 
 
 def _assignments(over: dict) -> str:
