@@ -417,11 +417,30 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
 # ---------------------------------------------------------------------------
 # imperfect interface forces (000 Eq 17-27, 002 Eq 37-39)
 # ---------------------------------------------------------------------------
+@njit(cache=True, inline="always")
+def _contact_area(i, a, b_only, present, npres, om_a, om_b, area_vol, h, settings) -> float:
+    """Contact area, 000 Eq 20 (ERRATA 8) with dx -> h_perp (Eq 22); volumes carry t.
+    With ``area_vol`` (reference nodal volumes) in place of the current om_a, om_b."""
+    if area_vol.shape[0] > 0:
+        om_a = area_vol[i, a]
+        om_b = 0.0
+        for j in range(npres):
+            c = present[j]
+            if c != a and (b_only < 0 or c == b_only):
+                om_b += area_vol[i, c]
+    omega = om_a + om_b
+    if settings[S_AREA_CORRECTION] != 0.0:
+        return math.sqrt(2.0 * omega * min(om_a, om_b)) / h
+    return omega / h
+
+
 @njit(cache=True)
-def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol, grad, disp, pos,
-                     cell, tvol, law, settings, rigid_b, lr_normal, lr_sep, dt, f_out, node_out,
-                     write_out, work) -> float:
-    """Interface force on material a from b (or the lump of the others); returns U_i."""
+def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol, area_vol, grad,
+                     disp, pos, cell, tvol, law, settings, rigid_b, lr_normal, lr_sep, dt, f_out,
+                     node_out, write_out, work) -> float:
+    """Interface force on material a from b (or the lump of the others); returns U_i.
+    ``area_vol``: the nodal volumes of Eq 20 (reference configuration), or empty for
+    the current ones (mpm.multimaterial.AREA_VOLUMES)."""
     d = mom.shape[2]
     for k in range(d):
         f_out[k] = 0.0
@@ -450,11 +469,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
     if not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings, lr_normal, n):
         return 0.0
     h = _jump(i, a, xfield[i, a], x_b, n, cell, settings, lr_sep, jump, t_hat)
-    # contact area, 000 Eq 20 (ERRATA 8) with dx -> h_perp (Eq 22); volumes carry t
-    if settings[S_AREA_CORRECTION] != 0.0:
-        area = math.sqrt(2.0 * omega * min(om_a, om_b)) / h
-    else:
-        area = omega / h
+    area = _contact_area(i, a, b_only, present, npres, om_a, om_b, area_vol, h, settings)
     dn = _dot(jump, n)
     for k in range(d):
         jt[k] = jump[k] - dn * n[k]
@@ -547,8 +562,8 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
 
 
 @njit(cache=True)
-def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, params, settings, rigid,
-                            node_zone, zone_pairs, zone_kind, zone_params, lr_normal, lr_sep, dt,
+def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, thick, kind, params,
+                            settings, rigid, node_zone, zone_pairs, zone_kind, zone_params, lr_normal, lr_sep, dt,
                             force, node_out, nodes) -> float:
     """Interface forces on all multimaterial nodes (see mpm.multimaterial.add_interface_forces)."""
     n_nodes, m = mass.shape
@@ -589,9 +604,9 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
                 code = _pair_law(i, a, r, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
                 if code != LAW_IMPERFECT:
                     continue
-                total += _interface_force(i, a, r, r, present, npres, mass, mom, force, vol, grad, disp,
-                                          pos, cell, tvol, law, settings, True, lr_normal, lr_sep, dt, one,
-                                          node_out, write_out, work)
+                total += _interface_force(i, a, r, r, present, npres, mass, mom, force, vol, area_vol,
+                                          grad, disp, pos, cell, tvol, law, settings, True, lr_normal,
+                                          lr_sep, dt, one, node_out, write_out, work)
                 for k in range(d):
                     fadd[a, k] = one[k]
         elif npres == 2:
@@ -600,9 +615,9 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
             code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
             if code != LAW_IMPERFECT:
                 continue
-            total += _interface_force(i, a, b, b, present, npres, mass, mom, force, vol, grad, disp, pos,
-                                      cell, tvol, law, settings, False, lr_normal, lr_sep, dt, one,
-                                      node_out, write_out, work)
+            total += _interface_force(i, a, b, b, present, npres, mass, mom, force, vol, area_vol, grad,
+                                      disp, pos, cell, tvol, law, settings, False, lr_normal, lr_sep,
+                                      dt, one, node_out, write_out, work)
             for k in range(d):
                 fadd[a, k] = one[k]
                 fadd[b, k] = -one[k]       # 002 Eq 39: equal and opposite
@@ -620,9 +635,10 @@ def interface_forces_kernel(mass, mom, vol, grad, disp, pos, cell, thick, kind, 
                 code = _pair_law(i, a, b_law, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
                 if code != LAW_IMPERFECT:
                     continue
-                e_node += _interface_force(i, a, -1, b_law, present, npres, mass, mom, force, vol, grad,
-                                           disp, pos, cell, tvol, law, settings, False, lr_normal, lr_sep,
-                                           dt, one, node_out, write_out and not any_force, work)
+                e_node += _interface_force(i, a, -1, b_law, present, npres, mass, mom, force, vol,
+                                           area_vol, grad, disp, pos, cell, tvol, law, settings, False,
+                                           lr_normal, lr_sep, dt, one, node_out,
+                                           write_out and not any_force, work)
                 any_force = True
                 for k in range(d):
                     fadd[a, k] = one[k]

@@ -34,6 +34,7 @@ from . import state as S
 from .boundary import ghost_nodes, nodal_conditions, ramp_code, with_axis_conditions
 from .gauges import StressGauges
 from .grid import Grid, NodalFields
+from .parallel import p2g_range
 from .measure import bulk_quantities, interface_profile, line_profiles, stiffness_quantities
 from .options import merge
 from .particles import apply_tractions, generate
@@ -201,8 +202,25 @@ class Model:
                 S.nodal_state(self.nodal, self.bcs.ghosts is not None and
                               self.bcs.ghosts.node.size > 0),
                 S.conditions(self.bcs),
-                S.pair_tables(self.tables, self.node_out, thickness, g.N, self.M, g.D),
+                S.pair_tables(self.tables, self.node_out, thickness, g.N, self.M, g.D,
+                              self.reference_area_volumes()),
                 S.blocks(buffers))
+
+    def reference_area_volumes(self) -> np.ndarray | None:
+        """The nodal volumes of 000 Eq 20 with option interface_area = reference: one
+        scatter of the particles' initial volumes from their initial positions
+        (mpm.multimaterial.AREA_VOLUMES); None for the current volumes."""
+        if self.tables is None or not self.tables.area_reference:
+            return None
+        g, pt = self.grid, self.particles
+        nd = NodalFields(g.N, self.M, g.D)
+        lost = p2g_range(0, pt.P, pt.x0, np.zeros_like(pt.x0), pt.mass, pt.volume0, pt.stress,
+                         pt.field, pt.x0, g.origin, g.cell, g.nn, pt.lp, self.kind, True, False,
+                         nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
+                         nd.displacement, nd.position)
+        if lost >= 0:
+            raise SolverError(f"mpm: particle {lost} starts outside the background grid")
+        return nd.volume
 
 
 def _traction_ramp(loads: list[dict], option: float | None, T1: float) -> tuple[float, int]:

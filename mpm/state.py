@@ -87,7 +87,8 @@ class PairTables(NamedTuple):
     """Multimaterial pair tables (:class:`mpm.multimaterial.MultimaterialTables`), the
     out-of-plane thickness (one value or one per node), the per-node output columns
     and the per-node normals (LR: of the current step; radial SN: fixed) and LR
-    separations."""
+    separations, and the reference nodal volumes of 000 Eq 20 (option interface_area =
+    reference; empty: the current volumes)."""
     thickness: np.ndarray
     law_kind: np.ndarray
     law_params: np.ndarray
@@ -100,6 +101,7 @@ class PairTables(NamedTuple):
     node_out: np.ndarray
     lr_normal: np.ndarray
     lr_separation: np.ndarray
+    area_volume: np.ndarray
 
 
 class Blocks(NamedTuple):
@@ -163,9 +165,12 @@ def conditions(bc) -> Conditions:
                       g.plane_field, g.plane_of)
 
 
-def pair_tables(tables, node_out, thickness, N: int, M: int, D: int) -> PairTables:
+def pair_tables(tables, node_out, thickness, N: int, M: int, D: int,
+                area_volume: np.ndarray | None = None) -> PairTables:
     """Bundle of the pair tables; a single-material run (``tables`` None) gets empty
-    tables of the right types (the multimaterial phases never run for it)."""
+    tables of the right types (the multimaterial phases never run for it).
+    ``area_volume``: the reference nodal volumes of 000 Eq 20 (None: current volumes)."""
+    area = np.zeros((0, M)) if area_volume is None else np.ascontiguousarray(area_volume, dtype=np.float64)
     thick = np.ascontiguousarray(np.atleast_1d(np.asarray(thickness, dtype=np.float64)))
     if tables is None:
         from .multimaterial_constants import N_PARAMS, N_SETTINGS
@@ -173,13 +178,13 @@ def pair_tables(tables, node_out, thickness, N: int, M: int, D: int) -> PairTabl
                           np.zeros(N_SETTINGS), np.zeros(M, np.int64), np.zeros(0, np.int64),
                           np.zeros((0, 2), np.int64), np.zeros(0, np.int64),
                           np.zeros((0, N_PARAMS)), np.zeros((0, NODE_OUT_COLUMNS)), np.zeros((0, M, D)),
-                          np.zeros((0, M)))
+                          np.zeros((0, M)), area)
     n_lr = N if tables.uses_lr else 0
     if node_out is None:
         node_out = np.zeros((0, NODE_OUT_COLUMNS))
     return PairTables(thick, tables.law_kind, tables.law_params, tables.settings, tables.rigid,
                       tables.node_zone, tables.zone_pairs, tables.zone_kind, tables.zone_params,
-                      node_out, tables.node_normals(N, D), np.zeros((n_lr, M)))
+                      node_out, tables.node_normals(N, D), np.zeros((n_lr, M)), area)
 
 
 def blocks(buffers) -> Blocks:

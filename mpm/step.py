@@ -161,8 +161,9 @@ def phase_interface_forces(ctl, t, grid, nd, pairs, nodes, over_limit) -> float:
     """Step 5: imperfect-interface forces into ``nd.force`` (000 Eq 17-27); returns the
     interfacial energy. With force limiting off, counts the nodes above the Eq 26
     bound into ``over_limit`` (steps, most nodes in one step, first time)."""
-    u_int = interface_forces_kernel(nd.mass, nd.momentum, nd.volume, nd.volume_gradient,
-                                    nd.displacement, nd.position, grid.cell, pairs.thickness,
+    u_int = interface_forces_kernel(nd.mass, nd.momentum, nd.volume, pairs.area_volume,
+                                    nd.volume_gradient, nd.displacement, nd.position, grid.cell,
+                                    pairs.thickness,
                                     pairs.law_kind, pairs.law_params, pairs.settings,
                                     pairs.rigid, pairs.node_zone, pairs.zone_pairs,
                                     pairs.zone_kind, pairs.zone_params, pairs.lr_normal,
