@@ -414,7 +414,8 @@ def cpd_plane_material(C1: float, C2_ratio: float, delta: float) -> IsotropicEla
 
 def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str = "vertical",
                       hole: bool = False, strain_scale: float = 1.0, h: float = 0.01, delta_factor: float = 3.01,
-                      overlap: float = 1.0, fem_h: float = 0.01, Dn: float = math.inf, Dt: float = math.inf) -> Case:
+                      overlap: float | None = None, fem_h: float = 0.01, Dn: float = math.inf, Dt: float = math.inf,
+                      mpm_cell: float = 0.05) -> Case:
     """Bimaterial unit square of 003 Sec 4.1 (Fig 4-7, 9-12), plane strain, interface Dn, Dt.
 
     Square [-0.5, 0.5]^2 split in halves by a ``vertical`` (x = 0), ``horizontal``
@@ -427,7 +428,12 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
     ``hole``: a centred square hole of side 0.4 (003 Fig 9 bottom). CPD options: grid
     spacing h, delta = delta_factor h, overlap width = ``overlap`` x delta.
     ``Dn``, ``Dt`` (MPa/mm): the interface law (inf = the perfect interface of 003; finite
-    values use the compliant CPD overlap, ``docs/cpd_interface.md``).
+    values use the compliant CPD overlap, ``docs/cpd_interface.md``, with its choices: the
+    narrowest band, overlap = 0.25 unless given, and the lattice calibration; the perfect
+    interface keeps 003's overlap = 1 and the ERRATA 12 conversion).
+    MPM: cells of ``mpm_cell``, SN normals from A to B, the 000 Eq 20 contact area on
+    the reference nodal volumes (option interface_area; the square's materials are so
+    soft, E_A ~ 1e-5 MPa, that a compliant interface opens by a few % of a cell).
     Reference: plane-strain FEM.
     """
     if parameter_set not in TABLE2:
@@ -445,6 +451,11 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
         shapes = (Rectangle(-0.5, -0.5, 1.0, 0.5), Rectangle(-0.5, 0.0, 1.0, 0.5))
     else:
         shapes = (Polygon([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5]]), Polygon([[-0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]]))
+    perfect = math.isinf(Dn) and math.isinf(Dt)
+    cpd = {"h": h, "delta_factor": delta_factor, "overlap": overlap if overlap is not None else 1.0 if perfect else 0.25}
+    if not perfect:
+        cpd["calibration"] = "lattice"
+    normal = {"vertical": [1.0, 0.0], "horizontal": [0.0, 1.0], "diagonal": [-math.sqrt(0.5), math.sqrt(0.5)]}
     holes = [Rectangle(-0.2, -0.2, 0.4, 0.4)] if hole else []
     bodies = [Body("A", shapes[0], "A", holes=list(holes)), Body("B", shapes[1], "B", holes=list(holes))]
     H = tuple(float(v) * strain_scale for v in LOAD_CASES[load_case])
@@ -460,7 +471,9 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
         boundary_conditions=bcs,
         measurements={"strain_energy": {}},
         discretization={"fem": {"element_size": fem_h, "order": 2},
-                        "cpd": {"h": h, "delta_factor": delta_factor, "overlap": overlap}},
+                        "mpm": {"cell": mpm_cell, "normal": "SN", "normal_vector": normal[interface],
+                                "interface_area": "reference"},
+                        "cpd": cpd},
         reference="fem",
         lines={"vertical": [[0.1, -0.5], [0.1, 0.5]], "horizontal": [[-0.5, y_line], [0.5, y_line]]},
     )
