@@ -7,7 +7,8 @@
   (002 Eq 48, ERRATA 6, and the general two-material form; Eq 49 pulse);
 * composite-spheres bulk modulus with a spring interface (000 Sec 3, Hashin);
 * composite-cylinders transverse (plane-strain) bulk modulus with a spring interface;
-* interphase -> interface parameters (002 Eq 52).
+* interphase -> interface parameters (002 Eq 52);
+* the shock Hugoniot of a Mie-Grueneisen solid (004 Sec 4.3, Eq 51).
 
 ``registry.MODELS`` / ``registry.PROFILES`` map the model names used in
 ``case.analytic`` to functions returning scalar quantities / profile curves;
@@ -24,6 +25,7 @@ from interfaces.analytic.dcb import (DoubleCantileverBeam, dcb_compliance, dcb_d
 from interfaces.analytic.dls import (DoubleLapShear, dls_axial_stress, dls_beta_l_max, dls_compliance,
                                      dls_identical_beta, dls_identical_compliance, dls_identical_stiffness,
                                      dls_long_bond_stiffness, dls_shear_stress, dls_stiffness)
+from interfaces.analytic.hugoniot import ShockHugoniot, ShockState
 from interfaces.analytic.interphase import interphase_to_interface
 from interfaces.analytic.registry import MODELS, PROFILES, model_names
 from interfaces.analytic.solve import solve
@@ -39,7 +41,7 @@ __all__ = [
     "DoubleLapShear", "dls_axial_stress", "dls_beta_l_max", "dls_compliance", "dls_identical_beta",
     "dls_identical_compliance", "dls_identical_stiffness", "dls_long_bond_stiffness",
     "dls_shear_stress", "dls_stiffness",
-    "interphase_to_interface",
+    "ShockHugoniot", "ShockState", "interphase_to_interface",
     "MODELS", "PROFILES", "model_names",
     "bar_wave_speed", "dilatational_wave_speed", "impedance", "pulse_transmission",
     "wave_amplitude_ratios", "wave_reflection", "wave_transmission", "wave_transmission_identical",

@@ -26,6 +26,9 @@ Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
   a (particle radius); phi, or b (outer radius), or cube_side [+ octant = False];
   Dn = inf; Dt, G_p accepted and unused (spherical symmetry); profile options
   eps0 = 1, n_points = 201.
+* ``shock_hugoniot`` (004 Sec 4.3, Eq 51, Rankine-Hugoniot): K, rho, S1, gamma0, Y = 0
+  (yield stress of the deviatoric part), impact_speed (mm/s), impact = "wall" (u_p = v)
+  | "symmetric" (u_p = v / 2); profile options n_points = 41, up_max = 1.5 u_p.
 * ``composite_cylinders`` (plane strain, transverse bulk modulus): K_p, G_p or (E_p,
   nu_p) of the fibre; K_m, G_m or (E_m, nu_m); a (fibre radius); phi or b; Dn = inf;
   Dt accepted and unused (axial symmetry).
@@ -44,6 +47,7 @@ from interfaces.analytic.composite_spheres import (CompositeSpheres, bulk_shear_
 from interfaces.analytic.composite_cylinders import CompositeCylinders, plane_strain_bulk_modulus
 from interfaces.analytic.dcb import DoubleCantileverBeam
 from interfaces.analytic.dls import DoubleLapShear
+from interfaces.analytic.hugoniot import ShockHugoniot
 from interfaces.analytic.waves import impedance, pulse_transmission, wave_reflection, wave_transmission
 from interfaces.errors import check_number
 
@@ -428,7 +432,41 @@ def composite_cylinders_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     return _radial_profile(m, p)
 
 
-_PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA) | set(_CCA)
+# ---- shock Hugoniot ---------------------------------------------------------------
+_SHOCK = {"K": ..., "rho": ..., "S1": ..., "gamma0": ..., "Y": 0.0, "impact_speed": ...,
+          "impact": "wall", "n_points": 41, "up_max": None}
+
+
+def _shock(params: dict[str, Any]) -> tuple[ShockHugoniot, float, dict[str, Any]]:
+    p = _take(params, "shock_hugoniot", _SHOCK)
+    if p["impact"] not in ("wall", "symmetric"):
+        raise CaseError(f"analytic.impact must be 'wall' or 'symmetric', got {p['impact']!r}")
+    v = check_number("impact_speed", p["impact_speed"], low=0.0, low_open=True)
+    model = ShockHugoniot(p["K"], p["rho"], p["S1"], p["gamma0"], p["Y"])
+    return model, v if p["impact"] == "wall" else 0.5 * v, p
+
+
+@_named
+def shock_hugoniot(**params) -> dict[str, float]:
+    """The shocked state behind the front of an impact (u_p, U_s, J, p, sigma, U)."""
+    model, up, _ = _shock(params)
+    st = model.state(up)
+    return {"particle_speed": st.particle_speed, "shock_speed": st.shock_speed,
+            "volume_ratio": st.volume_ratio, "pressure": st.pressure,
+            "longitudinal_stress": st.longitudinal_stress,
+            "specific_internal_energy": st.specific_internal_energy,
+            "bulk_wave_speed": model.bulk_wave_speed}
+
+
+@_named
+def shock_hugoniot_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
+    """``hugoniot``: the curve over particle speeds 0 .. up_max (default 1.5 u_p)."""
+    model, up, p = _shock(params)
+    top = 1.5 * up if p["up_max"] is None else check_number("up_max", p["up_max"], low=0.0, low_open=True)
+    return {"hugoniot": model.curve(np.linspace(0.0, top, _n_points(p["n_points"])))}
+
+
+_PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA) | set(_CCA) | set(_SHOCK)
 
 MODELS: dict[str, Callable[..., dict[str, float]]] = {
     "dls_shear_lag": dls_shear_lag,
@@ -436,6 +474,7 @@ MODELS: dict[str, Callable[..., dict[str, float]]] = {
     "wave_transmission": wave_transmission_model,
     "composite_spheres": composite_spheres,
     "composite_cylinders": composite_cylinders,
+    "shock_hugoniot": shock_hugoniot,
 }
 
 PROFILES: dict[str, Callable[..., dict[str, dict[str, np.ndarray]]]] = {
@@ -444,6 +483,7 @@ PROFILES: dict[str, Callable[..., dict[str, dict[str, np.ndarray]]]] = {
     "wave_transmission": wave_profiles,
     "composite_spheres": composite_spheres_profiles,
     "composite_cylinders": composite_cylinders_profiles,
+    "shock_hugoniot": shock_hugoniot_profiles,
 }
 
 
