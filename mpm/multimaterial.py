@@ -52,8 +52,9 @@ from mpm.multimaterial_constants import (
     NORMAL_SN_RADIAL,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
-    S_SEPARATION, S_SN_X, SEP_LR, SEPARATION_CODES,
+    S_DF_DS, S_DF_S0, S_SEPARATION, S_SN_X, SEP_LR, SEPARATION_CODES,
 )
+from mpm.contact_separation import separation_table
 from mpm.multimaterial_lr import lr_normals_separations  # noqa: F401  (re-exported)
 from mpm.multimaterial_normals import (  # noqa: F401  (re-exported public normals)
     h_perp, normal_ag, normal_avg, normal_mvg, normal_rmvg, normal_sn,
@@ -84,6 +85,7 @@ DEFAULT_OPTIONS: dict = {
     "normal_vector": None,        # SN: unit normal from the lower to the higher body index
     "normal_center": None,        # SN: radial normals from this point instead (000 Fig 4C)
     "separation": "displacement",  # displacement (000 Eq 13) | offset (Eq 14) | LR (004 Eq 24)
+                                   # | DF (004 Eq 15: edge distances d(x), mpm/contact_separation.py)
     "contact_offset": 0.8,        # delta_con = 0.8 h (000 Eq 14 with h = h_perp)
     "area_correction": True,      # 000 Eq 20 (else A_i = Omega_i / h)
     "interface_area": "current",  # current | reference: the nodal volumes of Eq 20 (see AREA_VOLUMES)
@@ -121,6 +123,7 @@ class MultimaterialTables:
     body_names: tuple = ()
     sn_normal: np.ndarray | None = None   # radial SN: per node, from body 0 to the others
     area_reference: bool = False          # Eq 20 on the reference nodal volumes (AREA_VOLUMES)
+    df_curve: np.ndarray = field(default_factory=lambda: np.zeros(0))  # DF: d(s), 004 Eq 15
 
     def node_normals(self, N: int, D: int) -> np.ndarray:
         """The per-node normal buffer [N, M, D] of the step: the radial SN normals
@@ -227,6 +230,21 @@ def _radial_normals(opts: dict, node_coordinates, dim: int, m: int) -> np.ndarra
     return np.ascontiguousarray(r / np.where(norm > 0.0, norm, 1.0)[:, None])
 
 
+def _df_table(options: dict, settings: np.ndarray) -> np.ndarray:
+    """separation = DF (004 Eq 15): the edge-distance curve d(s) of the run's shape
+    function and particles per cell (the same along every axis), tabulated for the
+    kernels; its start and spacing go into ``settings``."""
+    shape = str(options.get("shape", "ugimp")).lower()
+    ppc = np.unique(np.atleast_1d(np.asarray(options.get("ppc", 2))))
+    if ppc.size != 1 or not float(ppc[0]).is_integer():
+        raise _err(f"mpm option separation = DF needs the same integer ppc along every axis, got "
+                   f"{options.get('ppc')!r}")
+    s0, ds, table = separation_table(shape, int(ppc[0]))
+    settings[S_DF_S0] = s0
+    settings[S_DF_DS] = ds
+    return table
+
+
 def build_pair_tables(case, options: dict | None = None,
                       node_coordinates: np.ndarray | None = None) -> MultimaterialTables:
     """Build the numeric pair tables for one run (Python level, called once).
@@ -251,10 +269,11 @@ def build_pair_tables(case, options: dict | None = None,
         raise _err(f"mpm option normal must be one of {sorted(NORMAL_CODES)}, got {opts['normal']!r}")
     settings[S_NORMAL] = NORMAL_CODES[normal]
     sep = str(opts["separation"])
-    sep = "LR" if sep.upper() == "LR" else sep.lower()
+    sep = sep.upper() if sep.upper() in ("LR", "DF") else sep.lower()
     if sep not in SEPARATION_CODES:
         raise _err(f"mpm option separation must be one of {sorted(SEPARATION_CODES)}, got {opts['separation']!r}")
     settings[S_SEPARATION] = SEPARATION_CODES[sep]
+    df_curve = _df_table(options or {}, settings) if sep == "DF" else np.zeros(0)
     hp = str(opts["h_perp"]).lower()
     if hp not in HPERP_CODES:
         raise _err(f"mpm option h_perp must be one of {sorted(HPERP_CODES)}, got {opts['h_perp']!r}")
@@ -325,7 +344,8 @@ def build_pair_tables(case, options: dict | None = None,
                     raise _err("two rigid bodies cannot share an imperfect interface")
 
     tables = MultimaterialTables(kind, params, settings, rigid, body_names=tuple(names),
-                                 sn_normal=sn_normal, area_reference=area == "reference")
+                                 sn_normal=sn_normal, area_reference=area == "reference",
+                                 df_curve=df_curve)
     if zone_shapes:
         if node_coordinates is None:
             raise _err("interfaces with zones need node_coordinates in build_pair_tables")
@@ -403,7 +423,8 @@ def _check_lr(tables: MultimaterialTables, lr, n, m, d):
 def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: np.ndarray,
                      volume: np.ndarray, volume_gradient: np.ndarray, displacement: np.ndarray,
                      position: np.ndarray, cell: np.ndarray, tables: MultimaterialTables,
-                     dt: float, thickness=1.0, lr=None, nodes: np.ndarray | None = None) -> int:
+                     dt: float, thickness=1.0, lr=None, nodes: np.ndarray | None = None,
+                     origin=None, nn=None) -> int:
     """Contact / perfect-bond momentum correction on multimaterial nodes (004 Eq 26-34).
 
     ``phase`` 0: after the initial extrapolation (004 Eq 26, Delta p^alpha; momenta
@@ -420,7 +441,8 @@ def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: 
     fields follow 000 Eq 28-31.  In phase 1 the separation is advanced to the end of
     the step, delta + dt (v_b - v_a).  ``nodes`` (int64) restricts the work to those
     node indices (e.g. the core's list of nodes with 2+ fields); default all nodes.
-    Returns the number of nodes changed.
+    ``origin``, ``nn``: the grid's node 0 and node counts per axis (node positions, for
+    separation = DF). Returns the number of nodes changed.
     """
     n, m, d = _check_arrays(tables, cell, mass=mass, momentum=momentum, force=force,
                             volume=volume, volume_gradient=volume_gradient,
@@ -428,11 +450,27 @@ def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: 
     if phase not in (0, 1):
         raise ValueError(f"phase must be 0 (after extrapolation) or 1 (after the update), got {phase!r}")
     lr_normal, lr_sep = _check_lr(tables, lr, n, m, d)
+    origin, nn = _grid_geometry(tables, origin, nn, n, d)
     return _k.correct_momentum_kernel(
         int(phase), mass, momentum, force, volume, volume_gradient, displacement, position,
-        np.asarray(cell, dtype=np.float64), _thickness_array(thickness, n), tables.law_kind,
-        tables.law_params, tables.settings, tables.rigid, tables.node_zone, tables.zone_pairs,
-        tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt), _node_list(nodes, n))
+        np.asarray(cell, dtype=np.float64), origin, nn, _thickness_array(thickness, n),
+        tables.law_kind, tables.law_params, tables.settings, tables.rigid, tables.node_zone,
+        tables.zone_pairs, tables.zone_kind, tables.zone_params, lr_normal, lr_sep,
+        tables.df_curve, float(dt), _node_list(nodes, n))
+
+
+def _grid_geometry(tables: MultimaterialTables, origin, nn, n: int, d: int):
+    """Node 0 and node counts of the grid as kernel arrays; required by separation = DF
+    (node positions), else defaulted (unused)."""
+    if origin is None or nn is None:
+        if tables.df_curve.size:
+            raise ValueError("separation = DF needs the grid's origin and nn (node positions)")
+        return np.zeros(d), np.array([n] + [1] * (d - 1), dtype=np.int64)
+    origin = np.asarray(origin, dtype=np.float64).reshape(d)
+    nn = np.asarray(nn, dtype=np.int64).reshape(d)
+    if int(np.prod(nn)) != n:
+        raise ValueError(f"nn {nn.tolist()} does not match the {n} nodes of the arrays")
+    return origin, nn
 
 
 def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndarray,
@@ -440,7 +478,7 @@ def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndar
                          position: np.ndarray, cell: np.ndarray, thickness,
                          tables: MultimaterialTables, dt: float, force: np.ndarray,
                          node_out: np.ndarray | None = None, lr=None,
-                         nodes: np.ndarray | None = None) -> float:
+                         nodes: np.ndarray | None = None, origin=None, nn=None) -> float:
     """Imperfect-interface forces on multimaterial nodes (000 Eq 17-27, 002 Eq 37-39).
 
     For every node where an imperfect-interface pair meets: jump [u] = u_b - u_a
@@ -466,12 +504,13 @@ def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndar
         node_out = np.zeros((0, NODE_OUT_COLUMNS))
     elif node_out.shape != (n, NODE_OUT_COLUMNS):
         raise ValueError(f"node_out must have shape ({n}, {NODE_OUT_COLUMNS}), got {node_out.shape}")
+    origin, nn = _grid_geometry(tables, origin, nn, n, d)
     return _k.interface_forces_kernel(
         mass, momentum, volume, np.zeros((0, m)), volume_gradient, displacement, position,
-        np.asarray(cell, dtype=np.float64), _thickness_array(thickness, n), tables.law_kind,
-        tables.law_params, tables.settings, tables.rigid, tables.node_zone, tables.zone_pairs,
-        tables.zone_kind, tables.zone_params, lr_normal, lr_sep, float(dt), force, node_out,
-        _node_list(nodes, n))
+        np.asarray(cell, dtype=np.float64), origin, nn, _thickness_array(thickness, n),
+        tables.law_kind, tables.law_params, tables.settings, tables.rigid, tables.node_zone,
+        tables.zone_pairs, tables.zone_kind, tables.zone_params, lr_normal, lr_sep,
+        tables.df_curve, float(dt), force, node_out, _node_list(nodes, n))
 
 
 def apply_velocity_conditions(mass: np.ndarray, momentum: np.ndarray, force: np.ndarray,

@@ -38,7 +38,9 @@ S_LUMP_CONSERVE = 8     # 1.0 = restore momentum balance on 3+ nodes
 S_SN_X = 9              # specified normal (SN), from lower to higher body index
 S_SN_Y = 10
 S_SN_Z = 11
-N_SETTINGS = 12
+S_DF_S0 = 12            # DF separation: s of the first tabulated d(s) value (cells)
+S_DF_DS = 13            # ... and the spacing of the table (cells)
+N_SETTINGS = 14
 
 # --- normal methods (000 Sec 2.5, 004 Eq 13, 004 Sec 3.1) -------------------
 NORMAL_SN = 0
@@ -51,11 +53,12 @@ NORMAL_SN_RADIAL = 6    # SN about a centre (option normal_center): per-node nor
 NORMAL_CODES = {"SN": NORMAL_SN, "MVG": NORMAL_MVG, "AVG": NORMAL_AVG,
                 "RMVG": NORMAL_RMVG, "LR": NORMAL_LR, "AG": NORMAL_AG}
 
-# --- separation methods (000 Eq 13-14, 004 Eq 24) ---------------------------
+# --- separation methods (000 Eq 13-14, 004 Eq 15, 24) ---------------------------
 SEP_DISPLACEMENT = 0
 SEP_OFFSET = 1
 SEP_LR = 2
-SEPARATION_CODES = {"displacement": SEP_DISPLACEMENT, "offset": SEP_OFFSET, "LR": SEP_LR}
+SEP_DF = 3              # edge distances d(x) of 004 Eq 15 (mpm/contact_separation.py)
+SEPARATION_CODES = {"displacement": SEP_DISPLACEMENT, "offset": SEP_OFFSET, "LR": SEP_LR, "DF": SEP_DF}
 
 # --- h-perp methods (000 Eq 21-22) -----------------------------------------
 HPERP_NONE = 0          # h = dx (no tilt correction)

@@ -18,7 +18,7 @@ from mpm.multimaterial_constants import (
     OUT_JUMP_N, OUT_JUMP_T, OUT_NX, OUT_STATUS, OUT_TRACTION_N, OUT_TRACTION_T,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
-    S_SEPARATION, S_SN_X, SEP_LR, SEP_OFFSET, STATUS_CONTACT, STATUS_OVER_LIMIT,
+    S_DF_DS, S_DF_S0, S_SEPARATION, S_SN_X, SEP_DF, SEP_LR, SEP_OFFSET, STATUS_CONTACT, STATUS_OVER_LIMIT,
     STATUS_INTERFACE, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_SCREENED,
 )
 from mpm.multimaterial_normals import (
@@ -153,12 +153,44 @@ def _node_normal(i, a, b_law, g_a, g_b, om_a, om_b, a_rigid, b_rigid, settings, 
     return True
 
 
+@njit(cache=True, inline="always")
+def _edge_distance(df, s0, ds, s) -> float:
+    """d(s) of the tabulated curve (mpm.contact_separation), held at its ends."""
+    u = (s - s0) / ds
+    if u <= 0.0:
+        return df[0]
+    top = df.shape[0] - 1
+    if u >= top:
+        return df[top]
+    k = int(u)
+    f = u - k
+    return df[k] + f * (df[k + 1] - df[k])
+
+
 @njit(cache=True)
-def _jump(i, a, x_a, x_b, n, cell, settings, lr_sep, jump, t_hat) -> float:
+def _df_gap(i, x_a, x_b, n, cell, origin, nn, hc, settings, df) -> float:
+    """004 Eq 15: d_b((x_b - x_i) . n) - d_a((x_a - x_i) . n), the normal gap between
+    the two materials' edges (mm), with d_a = d and d_b(s) = -d(-s) in units of hc."""
+    sa = 0.0
+    sb = 0.0
+    rem = i
+    for k in range(n.shape[0]):
+        xk = origin[k] + (rem % nn[k]) * cell[k]
+        rem //= nn[k]
+        sa += (x_a[k] - xk) * n[k]
+        sb += (x_b[k] - xk) * n[k]
+    s0 = settings[S_DF_S0]
+    ds = settings[S_DF_DS]
+    return -hc * (_edge_distance(df, s0, ds, -sb / hc) + _edge_distance(df, s0, ds, sa / hc))
+
+
+@njit(cache=True)
+def _jump(i, a, x_a, x_b, n, cell, origin, nn, settings, lr_sep, df, jump, t_hat) -> float:
     """Separation vector delta = x_b - x_a (000 Eq 11, 13) corrected by the contact
-    offset (Eq 14, delta_con = factor * h_perp) or replaced along n by the LR
-    separation (004 Eq 24).  Writes the corrected jump vector into ``jump`` and a unit
-    tangent along its tangential part (000 Eq 15) into ``t_hat``; returns h_perp."""
+    offset (Eq 14, delta_con = factor * h_perp), or with its normal part replaced by
+    the LR separation (004 Eq 24) or the DF gap between the edges (004 Eq 15, table
+    ``df``).  Writes the corrected jump vector into ``jump`` and a unit tangent along
+    its tangential part (000 Eq 15) into ``t_hat``; returns h_perp."""
     d = n.shape[0]
     for k in range(d):
         jump[k] = x_b[k] - x_a[k]
@@ -183,6 +215,11 @@ def _jump(i, a, x_a, x_b, n, cell, settings, lr_sep, jump, t_hat) -> float:
     elif sep == SEP_LR and not math.isnan(lr_sep[i, a]):
         # normal part from the LR separation (004 Eq 24), tangential from displacements
         shift = lr_sep[i, a] - dn
+        for k in range(d):
+            jump[k] += shift * n[k]
+    elif sep == SEP_DF:
+        hc = h if hmethod != HPERP_NONE else cell[0]
+        shift = _df_gap(i, x_a, x_b, n, cell, origin, nn, hc, settings, df) - dn
         for k in range(d):
             jump[k] += shift * n[k]
     return h
@@ -250,7 +287,8 @@ def _delta_p(code, law, dp0, n, dn, approaching, touching, out, tv) -> bool:
 
 @njit(cache=True)
 def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force, vol, grad, disp, pos,
-                    cell, tvol, code, law, settings, rigid_b, lr_normal, lr_sep, dt, out, work) -> bool:
+                    cell, origin, nn, tvol, code, law, settings, rigid_b, lr_normal, lr_sep, df, dt,
+                    out, work) -> bool:
     """Momentum change of material a against b (or the lump of all others)."""
     d = mom.shape[2]
     if code == LAW_NONE:
@@ -263,7 +301,7 @@ def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force
     n = work[5]
     jump = work[6]
     t_hat = work[7]
-    xfield = pos if int(settings[S_SEPARATION]) == SEP_OFFSET else disp
+    xfield = pos if _uses_positions(settings) else disp
     m_b, om_b = _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
                           p_b, f_b, g_b, x_b)
     m_a = mass[i, a]
@@ -279,7 +317,7 @@ def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force
         return False
     if not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings, lr_normal, n):
         return False
-    _jump(i, a, xfield[i, a], x_b, n, cell, settings, lr_sep, jump, t_hat)
+    _jump(i, a, xfield[i, a], x_b, n, cell, origin, nn, settings, lr_sep, df, jump, t_hat)
     dn = _dot(jump, n)
     if phase == 1:
         # predict the separation at the end of the step with the updated velocities
@@ -293,6 +331,13 @@ def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force
 
 
 @njit(cache=True, inline="always")
+def _uses_positions(settings) -> bool:
+    """Offset (000 Eq 14) and DF (004 Eq 15) separations work on extrapolated positions."""
+    sep = int(settings[S_SEPARATION])
+    return sep == SEP_OFFSET or sep == SEP_DF
+
+
+@njit(cache=True, inline="always")
 def _cell_volume(cell, thick, i) -> float:
     v = 1.0
     for k in range(cell.shape[0]):
@@ -303,9 +348,9 @@ def _cell_volume(cell, thick, i) -> float:
 
 
 @njit(cache=True)
-def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell, thick, kind, params,
-                            settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
-                            lr_normal, lr_sep, dt, nodes) -> int:
+def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell, origin, nn, thick, kind,
+                            params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
+                            lr_normal, lr_sep, df, dt, nodes) -> int:
     """Contact corrections on all multimaterial nodes (see mpm.multimaterial.correct_momentum)."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
@@ -345,7 +390,8 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
                     continue
                 code = _pair_law(i, a, r, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
                 if _interaction_dp(i, a, r, r, present, npres, phase, mass, mom, force, vol, grad, disp,
-                                   pos, cell, tvol, code, law, settings, True, lr_normal, lr_sep, dt, one, work):
+                                   pos, cell, origin, nn, tvol, code, law, settings, True, lr_normal,
+                                   lr_sep, df, dt, one, work):
                     touched[a] = True
                     for k in range(d):
                         dp[a, k] = one[k]
@@ -364,7 +410,8 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
                 b = present[0]
             code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
             if _interaction_dp(i, a, b, b, present, npres, phase, mass, mom, force, vol, grad, disp, pos,
-                               cell, tvol, code, law, settings, False, lr_normal, lr_sep, dt, one, work):
+                               cell, origin, nn, tvol, code, law, settings, False, lr_normal, lr_sep, df,
+                               dt, one, work):
                 touched[a] = True
                 touched[b] = True
                 for k in range(d):
@@ -382,8 +429,8 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
                 b_law = _largest_partner(i, a, present, npres, vol, rigid)
                 code = _pair_law(i, a, b_law, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
                 if _interaction_dp(i, a, -1, b_law, present, npres, phase, mass, mom, force, vol, grad,
-                                   disp, pos, cell, tvol, code, law, settings, False, lr_normal, lr_sep,
-                                   dt, one, work):
+                                   disp, pos, cell, origin, nn, tvol, code, law, settings, False,
+                                   lr_normal, lr_sep, df, dt, one, work):
                     touched[a] = True
                     for k in range(d):
                         dp[a, k] = one[k]
@@ -436,8 +483,8 @@ def _contact_area(i, a, b_only, present, npres, om_a, om_b, area_vol, h, setting
 
 @njit(cache=True)
 def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol, area_vol, grad,
-                     disp, pos, cell, tvol, law, settings, rigid_b, lr_normal, lr_sep, dt, f_out,
-                     node_out, write_out, work) -> float:
+                     disp, pos, cell, origin, nn, tvol, law, settings, rigid_b, lr_normal, lr_sep, df,
+                     dt, f_out, node_out, write_out, work) -> float:
     """Interface force on material a from b (or the lump of the others); returns U_i.
     ``area_vol``: the nodal volumes of Eq 20 (reference configuration), or empty for
     the current ones (mpm.multimaterial.AREA_VOLUMES)."""
@@ -456,7 +503,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
     fmax = work[9]
     fmt = work[10]
     fstick = work[11]
-    xfield = pos if int(settings[S_SEPARATION]) == SEP_OFFSET else disp
+    xfield = pos if _uses_positions(settings) else disp
     m_b, om_b = _gather_b(i, a, b_only, present, npres, mass, mom, force, vol, grad, xfield,
                           p_b, f_b, g_b, x_b)
     m_a = mass[i, a]
@@ -468,7 +515,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
         return 0.0
     if not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings, lr_normal, n):
         return 0.0
-    h = _jump(i, a, xfield[i, a], x_b, n, cell, settings, lr_sep, jump, t_hat)
+    h = _jump(i, a, xfield[i, a], x_b, n, cell, origin, nn, settings, lr_sep, df, jump, t_hat)
     area = _contact_area(i, a, b_only, present, npres, om_a, om_b, area_vol, h, settings)
     dn = _dot(jump, n)
     for k in range(d):
@@ -562,9 +609,9 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
 
 
 @njit(cache=True)
-def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, thick, kind, params,
-                            settings, rigid, node_zone, zone_pairs, zone_kind, zone_params, lr_normal, lr_sep, dt,
-                            force, node_out, nodes) -> float:
+def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, origin, nn, thick, kind,
+                            params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
+                            lr_normal, lr_sep, df, dt, force, node_out, nodes) -> float:
     """Interface forces on all multimaterial nodes (see mpm.multimaterial.add_interface_forces)."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
@@ -605,8 +652,8 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, thi
                 if code != LAW_IMPERFECT:
                     continue
                 total += _interface_force(i, a, r, r, present, npres, mass, mom, force, vol, area_vol,
-                                          grad, disp, pos, cell, tvol, law, settings, True, lr_normal,
-                                          lr_sep, dt, one, node_out, write_out, work)
+                                          grad, disp, pos, cell, origin, nn, tvol, law, settings, True,
+                                          lr_normal, lr_sep, df, dt, one, node_out, write_out, work)
                 for k in range(d):
                     fadd[a, k] = one[k]
         elif npres == 2:
@@ -616,8 +663,8 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, thi
             if code != LAW_IMPERFECT:
                 continue
             total += _interface_force(i, a, b, b, present, npres, mass, mom, force, vol, area_vol, grad,
-                                      disp, pos, cell, tvol, law, settings, False, lr_normal, lr_sep,
-                                      dt, one, node_out, write_out, work)
+                                      disp, pos, cell, origin, nn, tvol, law, settings, False, lr_normal,
+                                      lr_sep, df, dt, one, node_out, write_out, work)
             for k in range(d):
                 fadd[a, k] = one[k]
                 fadd[b, k] = -one[k]       # 002 Eq 39: equal and opposite
@@ -636,8 +683,8 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, thi
                 if code != LAW_IMPERFECT:
                     continue
                 e_node += _interface_force(i, a, -1, b_law, present, npres, mass, mom, force, vol,
-                                           area_vol, grad, disp, pos, cell, tvol, law, settings, False,
-                                           lr_normal, lr_sep, dt, one, node_out,
+                                           area_vol, grad, disp, pos, cell, origin, nn, tvol, law,
+                                           settings, False, lr_normal, lr_sep, df, dt, one, node_out,
                                            write_out and not any_force, work)
                 any_force = True
                 for k in range(d):

@@ -87,8 +87,9 @@ class PairTables(NamedTuple):
     """Multimaterial pair tables (:class:`mpm.multimaterial.MultimaterialTables`), the
     out-of-plane thickness (one value or one per node), the per-node output columns
     and the per-node normals (LR: of the current step; radial SN: fixed) and LR
-    separations, and the reference nodal volumes of 000 Eq 20 (option interface_area =
-    reference; empty: the current volumes)."""
+    separations, the reference nodal volumes of 000 Eq 20 (option interface_area =
+    reference; empty: the current volumes) and the DF edge-distance table d(s) of 004
+    Eq 15 (separation = DF; empty otherwise)."""
     thickness: np.ndarray
     law_kind: np.ndarray
     law_params: np.ndarray
@@ -102,6 +103,7 @@ class PairTables(NamedTuple):
     lr_normal: np.ndarray
     lr_separation: np.ndarray
     area_volume: np.ndarray
+    df_curve: np.ndarray
 
 
 class Blocks(NamedTuple):
@@ -178,13 +180,13 @@ def pair_tables(tables, node_out, thickness, N: int, M: int, D: int,
                           np.zeros(N_SETTINGS), np.zeros(M, np.int64), np.zeros(0, np.int64),
                           np.zeros((0, 2), np.int64), np.zeros(0, np.int64),
                           np.zeros((0, N_PARAMS)), np.zeros((0, NODE_OUT_COLUMNS)), np.zeros((0, M, D)),
-                          np.zeros((0, M)), area)
+                          np.zeros((0, M)), area, np.zeros(0))
     n_lr = N if tables.uses_lr else 0
     if node_out is None:
         node_out = np.zeros((0, NODE_OUT_COLUMNS))
     return PairTables(thick, tables.law_kind, tables.law_params, tables.settings, tables.rigid,
                       tables.node_zone, tables.zone_pairs, tables.zone_kind, tables.zone_params,
-                      node_out, tables.node_normals(N, D), np.zeros((n_lr, M)), area)
+                      node_out, tables.node_normals(N, D), np.zeros((n_lr, M)), area, tables.df_curve)
 
 
 def blocks(buffers) -> Blocks:

@@ -115,10 +115,10 @@ def phase_contact(phase, ctl, grid, nd, pairs, nodes) -> None:
     :func:`mpm.multimaterial.correct_momentum`)."""
     correct_momentum_kernel(phase, nd.mass, nd.momentum, nd.force, nd.volume,
                             nd.volume_gradient, nd.displacement, nd.position, grid.cell,
-                            pairs.thickness, pairs.law_kind, pairs.law_params, pairs.settings,
-                            pairs.rigid, pairs.node_zone, pairs.zone_pairs, pairs.zone_kind,
-                            pairs.zone_params, pairs.lr_normal, pairs.lr_separation, ctl.dt,
-                            nodes)
+                            grid.origin, grid.nn, pairs.thickness, pairs.law_kind,
+                            pairs.law_params, pairs.settings, pairs.rigid, pairs.node_zone,
+                            pairs.zone_pairs, pairs.zone_kind, pairs.zone_params, pairs.lr_normal,
+                            pairs.lr_separation, pairs.df_curve, ctl.dt, nodes)
 
 
 @njit(cache=True, inline="always")
@@ -163,11 +163,12 @@ def phase_interface_forces(ctl, t, grid, nd, pairs, nodes, over_limit) -> float:
     bound into ``over_limit`` (steps, most nodes in one step, first time)."""
     u_int = interface_forces_kernel(nd.mass, nd.momentum, nd.volume, pairs.area_volume,
                                     nd.volume_gradient, nd.displacement, nd.position, grid.cell,
-                                    pairs.thickness,
+                                    grid.origin, grid.nn, pairs.thickness,
                                     pairs.law_kind, pairs.law_params, pairs.settings,
                                     pairs.rigid, pairs.node_zone, pairs.zone_pairs,
                                     pairs.zone_kind, pairs.zone_params, pairs.lr_normal,
-                                    pairs.lr_separation, ctl.dt, nd.force, pairs.node_out, nodes)
+                                    pairs.lr_separation, pairs.df_curve, ctl.dt, nd.force,
+                                    pairs.node_out, nodes)
     if ctl.check_limit:
         over = _count_over_limit(pairs.node_out, nodes)
         if over:

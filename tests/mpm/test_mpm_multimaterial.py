@@ -146,6 +146,38 @@ def test_offset_separation_uses_contact_offset():
         assert correct(0, s, tables) == int(touching)
 
 
+def test_df_detects_touching_from_the_edge_distances():
+    """One node at the origin, a and b seen at s_a = -3/8 and s_b = s cells along n: the
+    edges meet at the node for s = +3/8 (DF gap 0); closer is contact, farther is not.
+    The offset method with delta_c = 0.8 would call s_b = 0.40 (0.775 apart) touching."""
+    n = np.array([1.0, 0.0])
+    case = make_case(2, [(0, 1, StickContact())])
+    tables = mm.build_pair_tables(case, {"normal": "SN", "normal_vector": n.tolist(),
+                                         "separation": "DF", "shape": "ugimp", "ppc": 2})
+    for s_b, touching in ((0.36, True), (0.40, False)):
+        st = two_field_contact_state([1.0, 0.0], [-1.0, 0.0])
+        st["position"][0, 0] = -0.375 * n
+        st["position"][0, 1] = s_b * n
+        changed = mm.correct_momentum(0, st["mass"], st["momentum"], st["force"], st["volume"],
+                                      st["volume_gradient"], st["displacement"], st["position"],
+                                      st["cell"], tables, 1e-3, origin=[0.0, 0.0], nn=[1, 1])
+        assert changed == int(touching)
+
+
+def test_df_needs_node_positions_and_one_ppc():
+    case = make_case(2, [(0, 1, StickContact())])
+    tables = mm.build_pair_tables(case, {"separation": "DF"})
+    st = two_field_contact_state([1.0, 0.0], [-1.0, 0.0])
+    with pytest.raises(ValueError, match="needs the grid's origin and nn"):
+        mm.correct_momentum(0, st["mass"], st["momentum"], st["force"], st["volume"],
+                            st["volume_gradient"], st["displacement"], st["position"], st["cell"],
+                            tables, 1e-3)
+    with pytest.raises(CaseError, match="same integer ppc along every axis"):
+        mm.build_pair_tables(case, {"separation": "DF", "ppc": [2, 3]})
+    with pytest.raises(CaseError, match="separation must be one of"):
+        mm.build_pair_tables(case, {"separation": "edge"})
+
+
 def test_frictionless_contact_removes_only_approaching_normal_velocity():
     n = np.array([math.cos(0.3), math.sin(0.3)])
     t = np.array([-n[1], n[0]])

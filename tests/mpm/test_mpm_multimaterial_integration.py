@@ -71,6 +71,24 @@ def test_contact_in_compression_matches_one_body(law):
     assert avg.quantities["stiffness"] == pytest.approx(one.quantities["stiffness"], rel=0.03)
 
 
+@pytest.mark.parametrize("split", [2.0, 2.25])        # contact plane on a grid line / mid-cell
+def test_df_separation_sees_touching_blocks_wherever_the_plane_lies(split):
+    """004 Eq 15 (DF): the edge distances d(x) put the two blocks' edges together at
+    either plane position, so the compressed stack in frictionless contact behaves as
+    the uncut block (stiffness -3.6e-7 / -3.2e-7 relative). The critical offset
+    CP = 0.8 (000 Eq 14, 004 Eq 16) misses the contact at nodes a cell from the plane,
+    whose extrapolated positions sit farther apart: -10.5 % / -89 % (004 Sec 2.2)."""
+    one = mpm.solve(block_case(stress=-SIGMA), cell=0.5, ppc=2, progress=False)
+    k = {}
+    for sep in ("DF", "offset"):
+        r = mpm.solve(block_case(split, CoulombFriction(0.0), stress=-SIGMA), cell=0.5, ppc=2,
+                      progress=False, normal="SN", normal_vector=[0.0, 1.0], separation=sep,
+                      contact_offset=0.8)
+        k[sep] = r.quantities["stiffness"] / one.quantities["stiffness"] - 1.0
+    assert abs(k["DF"]) < 2e-6
+    assert k["offset"] < -0.05
+
+
 @pytest.mark.parametrize("normal", [{"normal": "SN", "normal_vector": [0.0, 1.0]}, {"normal": "AVG"}])
 def test_imperfect_normal_interface_in_uniaxial_tension(normal):
     """Closed form: P^2/(2U) = 1/(H/(E W t) + 1/(Dn W t)); U_int = sigma^2 W t/(2 Dn).
