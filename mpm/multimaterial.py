@@ -86,6 +86,7 @@ DEFAULT_OPTIONS: dict = {
     "normal_center": None,        # SN: radial normals from this point instead (000 Fig 4C)
     "separation": "displacement",  # displacement (000 Eq 13) | offset (Eq 14) | LR (004 Eq 24)
                                    # | DF (004 Eq 15: edge distances d(x), mpm/contact_separation.py)
+                                   # | velocity (contact whenever approaching, 004 Eq 14 alone)
     "contact_offset": 0.8,        # delta_con = 0.8 h (000 Eq 14 with h = h_perp)
     "area_correction": True,      # 000 Eq 20 (else A_i = Omega_i / h)
     "interface_area": "current",  # current | reference: the nodal volumes of Eq 20 (see AREA_VOLUMES)

@@ -58,7 +58,9 @@ SEP_DISPLACEMENT = 0
 SEP_OFFSET = 1
 SEP_LR = 2
 SEP_DF = 3              # edge distances d(x) of 004 Eq 15 (mpm/contact_separation.py)
-SEPARATION_CODES = {"displacement": SEP_DISPLACEMENT, "offset": SEP_OFFSET, "LR": SEP_LR, "DF": SEP_DF}
+SEP_VELOCITY = 4        # no separation test: contact whenever approaching (004 Eq 14 alone)
+SEPARATION_CODES = {"displacement": SEP_DISPLACEMENT, "offset": SEP_OFFSET, "LR": SEP_LR, "DF": SEP_DF,
+                    "velocity": SEP_VELOCITY}
 
 # --- h-perp methods (000 Eq 21-22) -----------------------------------------
 HPERP_NONE = 0          # h = dx (no tilt correction)

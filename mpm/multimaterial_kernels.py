@@ -18,7 +18,8 @@ from mpm.multimaterial_constants import (
     OUT_JUMP_N, OUT_JUMP_T, OUT_NX, OUT_STATUS, OUT_TRACTION_N, OUT_TRACTION_T,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
-    S_DF_DS, S_DF_S0, S_SEPARATION, S_SN_X, SEP_DF, SEP_LR, SEP_OFFSET, STATUS_CONTACT, STATUS_OVER_LIMIT,
+    S_DF_DS, S_DF_S0, S_SEPARATION, S_SN_X, SEP_DF, SEP_LR, SEP_OFFSET, SEP_VELOCITY, STATUS_CONTACT,
+    STATUS_OVER_LIMIT,
     STATUS_INTERFACE, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_SCREENED,
 )
 from mpm.multimaterial_normals import (
@@ -326,7 +327,8 @@ def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force
             rel += (p_b[k] / m_b - mom[i, a, k] / m_a) * n[k]
         dn += dt * rel
     approaching = _dot(dp0, n) < 0.0         # 000 Eq 9: dv.n < 0  <=>  dp_a.n < 0
-    touching = dn <= 0.0                     # 000 Eq 12-14, 004 Eq 15/24
+    # 000 Eq 12-14, 004 Eq 15/24; velocity-only detection (004 Eq 14 alone) skips the test
+    touching = dn <= 0.0 or int(settings[S_SEPARATION]) == SEP_VELOCITY
     return _delta_p(code, law, dp0, n, dn, approaching, touching, out, work[8])
 
 

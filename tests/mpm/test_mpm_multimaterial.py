@@ -164,6 +164,17 @@ def test_df_detects_touching_from_the_edge_distances():
         assert changed == int(touching)
 
 
+def test_velocity_only_detection_contacts_bodies_still_apart():
+    """004 Eq 14 alone: approaching is taken for contact, even with a positive gap
+    (the early contact of 004 Fig 2); the displacement separation waits for the gap."""
+    n = np.array([1.0, 0.0])
+    for sep, expected in (("velocity", 1), ("displacement", 0)):
+        s = two_field_contact_state([1.0, 0.0], [-1.0, 0.0], gap=0.05, normal=n)
+        assert correct(0, s, sn(StickContact(), n, separation=sep)) == expected
+    s = two_field_contact_state([-1.0, 0.0], [1.0, 0.0], gap=0.05, normal=n)    # separating
+    assert correct(0, s, sn(StickContact(), n, separation="velocity")) == 0
+
+
 def test_df_needs_node_positions_and_one_ppc():
     case = make_case(2, [(0, 1, StickContact())])
     tables = mm.build_pair_tables(case, {"separation": "DF"})
