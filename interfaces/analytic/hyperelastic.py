@@ -89,3 +89,19 @@ def nominal_stress_for_stretch(mat: NeoHookean, stretch: float,
                                lateral: str = "plane_strain_free") -> float:
     """The dead axial load per reference area P_yy that holds the block at ``stretch``."""
     return float(neo_hookean_compression(mat, stretch, lateral).nominal_axial[0])
+
+
+def stretch_for_nominal_stress(mat: NeoHookean, nominal: float,
+                               lateral: str = "plane_strain_free") -> float:
+    """The axial stretch at which the dead axial load per reference area ``nominal``
+    (MPa, compression negative) holds the block (the inverse of
+    :func:`nominal_stress_for_stretch`, monotonic in the stretch)."""
+    if nominal == 0.0:
+        return 1.0
+    lo, hi = (1e-3, 1.0) if nominal < 0.0 else (1.0, 2.0)
+    while nominal > 0.0 and nominal_stress_for_stretch(mat, hi, lateral) < nominal:
+        hi *= 2.0
+        if hi > 1e6:
+            raise CaseError(f"no stretch carries the nominal stress {nominal:g} MPa")
+    return brentq(lambda lam: nominal_stress_for_stretch(mat, lam, lateral) - nominal, lo, hi,
+                  xtol=1e-15, rtol=1e-14)
