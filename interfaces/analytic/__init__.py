@@ -9,7 +9,8 @@
 * composite-cylinders transverse (plane-strain) bulk modulus with a spring interface;
 * interphase -> interface parameters (002 Eq 52);
 * homogeneous compression of a neo-Hookean block (004 Eq 18; plane strain, uniaxial
-  stress and strain), the reference of the finite-strain MPM tests.
+  stress and strain), the reference of the finite-strain MPM tests;
+* the shock Hugoniot Us = C0 + S1 up, p = rho0 Us up (004 Sec 4.3).
 
 ``registry.MODELS`` / ``registry.PROFILES`` map the model names used in
 ``case.analytic`` to functions returning scalar quantities / profile curves;
@@ -26,6 +27,7 @@ from interfaces.analytic.dcb import (DoubleCantileverBeam, dcb_compliance, dcb_d
 from interfaces.analytic.dls import (DoubleLapShear, dls_axial_stress, dls_beta_l_max, dls_compliance,
                                      dls_identical_beta, dls_identical_compliance, dls_identical_stiffness,
                                      dls_long_bond_stiffness, dls_shear_stress, dls_stiffness)
+from interfaces.analytic.hugoniot import hugoniot, hugoniot_pressure_of_compression
 from interfaces.analytic.hyperelastic import (neo_hookean_compression, nominal_stress_for_stretch,
                                               stretch_for_nominal_stress)
 from interfaces.analytic.interphase import interphase_to_interface
@@ -44,7 +46,7 @@ __all__ = [
     "dls_identical_compliance", "dls_identical_stiffness", "dls_long_bond_stiffness",
     "dls_shear_stress", "dls_stiffness",
     "interphase_to_interface",
-    "neo_hookean_compression", "nominal_stress_for_stretch", "stretch_for_nominal_stress",
+    "hugoniot", "hugoniot_pressure_of_compression", "neo_hookean_compression", "nominal_stress_for_stretch", "stretch_for_nominal_stress",
     "MODELS", "PROFILES", "model_names",
     "bar_wave_speed", "dilatational_wave_speed", "impedance", "pulse_transmission",
     "wave_amplitude_ratios", "wave_reflection", "wave_transmission", "wave_transmission_identical",

@@ -29,6 +29,8 @@ Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
 * ``composite_cylinders`` (plane strain, transverse bulk modulus): K_p, G_p or (E_p,
   nu_p) of the fibre; K_m, G_m or (E_m, nu_m); a (fibre radius); phi or b; Dn = inf;
   Dt accepted and unused (axial symmetry).
+* ``shock_hugoniot`` (004 Sec 4.3 reference): rho0, C0, S1, impact_speed (mm/s),
+  symmetric = False (True: up = v / 2); profile options n_points = 101.
 """
 from __future__ import annotations
 
@@ -44,6 +46,7 @@ from interfaces.analytic.composite_spheres import (CompositeSpheres, bulk_shear_
 from interfaces.analytic.composite_cylinders import CompositeCylinders, plane_strain_bulk_modulus
 from interfaces.analytic.dcb import DoubleCantileverBeam
 from interfaces.analytic.dls import DoubleLapShear
+from interfaces.analytic.hugoniot import hugoniot
 from interfaces.analytic.waves import impedance, pulse_transmission, wave_reflection, wave_transmission
 from interfaces.errors import check_number
 
@@ -428,7 +431,41 @@ def composite_cylinders_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     return _radial_profile(m, p)
 
 
-_PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA) | set(_CCA)
+# ---- shock Hugoniot ---------------------------------------------------------------
+_HUG = {"rho0": ..., "C0": ..., "S1": ..., "impact_speed": ..., "symmetric": False,
+        "n_points": 101}
+
+
+def _hugoniot_up(params: dict[str, Any]) -> tuple[dict[str, Any], float]:
+    p = _take(params, "shock_hugoniot", _HUG)
+    v = check_number("impact_speed", p["impact_speed"], low=0)
+    if not isinstance(p["symmetric"], bool):
+        raise CaseError(f"analytic.symmetric must be true or false, got {p['symmetric']!r}")
+    return p, 0.5 * v if p["symmetric"] else v
+
+
+@_named
+def shock_hugoniot(**params) -> dict[str, float]:
+    """Shocked state for an impact (Us = C0 + S1 up; ``symmetric``: up = v / 2, else a
+    rigid wall at v drives up = v): shock_speed (mm/s), pressure (MPa), J, internal
+    energy per unit mass (mm^2/s^2)."""
+    p, up = _hugoniot_up(params)
+    st = hugoniot(p["rho0"], p["C0"], p["S1"], up)
+    return {"particle_speed": float(st.up[0]), "shock_speed": float(st.Us[0]),
+            "pressure": float(st.pressure[0]), "J": float(st.J[0]),
+            "internal_energy": float(st.energy[0])}
+
+
+@_named
+def shock_hugoniot_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
+    """Shock speed and pressure against particle speed up to the impact's."""
+    p, up = _hugoniot_up(params)
+    st = hugoniot(p["rho0"], p["C0"], p["S1"], np.linspace(0.0, up, _n_points(p["n_points"])))
+    return {"hugoniot": {"up": st.up, "Us": st.Us, "pressure": st.pressure}}
+
+
+_PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA) | set(_CCA) \
+    | set(_HUG)
 
 MODELS: dict[str, Callable[..., dict[str, float]]] = {
     "dls_shear_lag": dls_shear_lag,
@@ -436,6 +473,7 @@ MODELS: dict[str, Callable[..., dict[str, float]]] = {
     "wave_transmission": wave_transmission_model,
     "composite_spheres": composite_spheres,
     "composite_cylinders": composite_cylinders,
+    "shock_hugoniot": shock_hugoniot,
 }
 
 PROFILES: dict[str, Callable[..., dict[str, dict[str, np.ndarray]]]] = {
@@ -444,6 +482,7 @@ PROFILES: dict[str, Callable[..., dict[str, dict[str, np.ndarray]]]] = {
     "wave_transmission": wave_profiles,
     "composite_spheres": composite_spheres_profiles,
     "composite_cylinders": composite_cylinders_profiles,
+    "shock_hugoniot": shock_hugoniot_profiles,
 }
 
 

@@ -76,3 +76,32 @@ def test_uniaxial_strain_closed_form():
     st = neo_hookean_compression(MAT, lam, "uniaxial_strain")
     expected = 2 * MAT.G / 3 * lam ** (-5 / 3) * (lam**2 - 1) + MAT.K / 2 * (lam - 1 / lam)
     assert st.sigma_axial[0] == pytest.approx(expected, rel=1e-13)
+
+
+# ------------------------------------------------------------------ Hugoniot ----
+
+def test_hugoniot_jump_conditions_and_the_mie_grueneisen_pressure():
+    """Nickel of 004 Sec 4.3 (K = 188 GPa, S1 = 1.44, rho0 = 8.87 g/cm^3, gamma0 = 2):
+    Us = C0 + S1 up, p = rho0 Us up; along the Hugoniot p = rho0 C0^2 eta / (1 - S1 eta)^2,
+    and the Mie-Grueneisen pressure of Eq 51 with the jump's energy (rho0 U = p eta / 2
+    per reference volume) is that same pressure."""
+    from interfaces import MieGruneisen
+    from interfaces.analytic import MODELS, hugoniot, hugoniot_pressure_of_compression
+    rho0, K = 8.87e-9, 188000.0
+    C0 = (K / rho0) ** 0.5
+    ni = MieGruneisen(C0=C0, S1=1.44, gamma0=2.0, G=76000.0, rho=rho0)
+    up = np.array([0.0, 2e5, 5e5, 9.2e5, 1.84e6])          # mm/s
+    st = hugoniot(rho0, C0, 1.44, up)
+    np.testing.assert_allclose(st.Us, C0 + 1.44 * up)
+    np.testing.assert_allclose(st.pressure, rho0 * st.Us * up)
+    eta = 1.0 - st.J
+    np.testing.assert_allclose(st.pressure, hugoniot_pressure_of_compression(rho0, C0, 1.44, eta),
+                               rtol=1e-12)
+    np.testing.assert_allclose(ni.pressure(st.J, rho0 * st.energy), st.pressure, rtol=1e-12)
+    np.testing.assert_allclose(rho0 * st.energy, 0.5 * st.pressure * eta, rtol=1e-12)
+    out = MODELS["shock_hugoniot"](rho0=rho0, C0=C0, S1=1.44, impact_speed=1.84e6)
+    assert out["pressure"] == pytest.approx(st.pressure[-1])
+    half = MODELS["shock_hugoniot"](rho0=rho0, C0=C0, S1=1.44, impact_speed=1.84e6, symmetric=True)
+    assert half["particle_speed"] == pytest.approx(9.2e5)
+    with pytest.raises(CaseError, match="analytic.impact_speed"):
+        MODELS["shock_hugoniot"](rho0=rho0, C0=C0, S1=1.44, impact_speed=-1.0)
