@@ -256,3 +256,42 @@ def test_unsupported_materials_are_refused_in_one_line():
     assert "Mie-Grueneisen" in mpm.supports(mg)
     with pytest.raises(CaseError, match="Mie-Grueneisen stress update"):
         mpm.solve(mg, cell=0.5)
+
+
+def _column(materials: dict, P: float, split: bool) -> Case:
+    """The 4 x 4 block of :func:`_compression_case`, whole or cut at mid-height into two
+    bodies (default perfect bond) with the materials ``materials['low']`` / ``['up']``."""
+    if split:
+        bodies = [Body("low", Rectangle(0.0, 0.0, 4.0, 2.0), "low"),
+                  Body("up", Rectangle(0.0, 2.0, 4.0, 2.0), "up")]
+    else:
+        bodies = [Body("low", Rectangle(0.0, 0.0, 4.0, 4.0), "low")]
+    up = bodies[-1].name
+    bcs = [BoundaryCondition("traction", "low", "ymin", ("y",), (-P,)),
+           BoundaryCondition("traction", up, "ymax", ("y",), (P,))]
+    bcs += [BoundaryCondition("fixed", b.name, "xmin", ("x",), (0.0,)) for b in bodies]
+    return Case(name="column", analysis="plane_strain", thickness=1.0, materials=materials,
+                bodies=bodies, boundary_conditions=bcs)
+
+
+def test_bonded_neo_hookean_and_linear_fields_share_nodes():
+    """Multimaterial nodes between a neo-Hookean and a linear field (perfect bond): at
+    1e-5 strain the column equals the uncut linear block (to 7.5e-6 of the displacement,
+    the order of the strain); two bonded neo-Hookean halves compressed 20 % equal the
+    uncut neo-Hookean block to round-off."""
+    small = -1e-5 * MAT.K
+    mixed = mpm.solve(_column({"low": LINEAR_TWIN, "up": MAT}, small, True), cell=0.5,
+                      progress=False)
+    whole = mpm.solve(_column({"low": LINEAR_TWIN}, small, False), cell=0.5, progress=False)
+    order = np.lexsort(mixed.fields["position"].T)
+    ref_order = np.lexsort(whole.fields["position"].T)
+    du = mixed.fields["displacement"][order] - whole.fields["displacement"][ref_order]
+    assert np.abs(du).max() < 5e-5 * np.abs(whole.fields["displacement"]).max()  # 7.5e-6
+    P = nominal_stress_for_stretch(MAT, STRETCH)
+    split = mpm.solve(_column({"low": MAT, "up": MAT}, P, True), cell=0.5, progress=False)
+    uncut = mpm.solve(_column({"low": MAT}, P, False), cell=0.5, progress=False)
+    Fs = np.asarray(split.fields["deformation_gradient"])[order]
+    Fu = np.asarray(uncut.fields["deformation_gradient"])[ref_order]
+    assert np.abs(Fs - Fu).max() < 1e-10                                        # 7e-15
+    assert split.quantities["strain_energy"] == pytest.approx(uncut.quantities["strain_energy"],
+                                                              rel=1e-10)
