@@ -166,7 +166,8 @@ def finite_strain_update(velgrad, F, stress, strain, pvol, pvol0, x, x0, foff, f
             for j in range(3):
                 B[i, j] = Fn[i, 0] * Fn[j, 0] + Fn[i, 1] * Fn[j, 1] + Fn[i, 2] * Fn[j, 2]
         I1 = B[0, 0] + B[1, 1] + B[2, 2]
-        Gs = G * J ** (-5.0 / 3.0)
+        Jm23 = J ** (-2.0 / 3.0)          # one power per particle
+        Gs = G * Jm23 / J
         mean = dU - Gs * I1 / 3.0
         # Green-Lagrange E = (F^T F - I) / 2, engineering shear 2 E_ij = C_ij
         if D == 3:
@@ -193,5 +194,5 @@ def finite_strain_update(velgrad, F, stress, strain, pvol, pvol0, x, x0, foff, f
                 stress[p, 3] = Gs * B[2, 2] + mean
                 strain[p, 3] = 0.5 * (Fn[2, 2] * Fn[2, 2] - 1.0)
         pvol[p] = J * pvol0[p]
-        U += pvol0[p] * (0.5 * G * (I1 * J ** (-2.0 / 3.0) - 3.0) + Uv)
+        U += pvol0[p] * (0.5 * G * (I1 * Jm23 - 3.0) + Uv)
     return U
