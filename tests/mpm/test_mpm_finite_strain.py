@@ -128,17 +128,19 @@ def _final_state(res) -> dict:
     return {"F": F.mean(axis=0), "stress": np.asarray(res.fields["stress"]).mean(axis=0)}
 
 
-@pytest.mark.parametrize("analysis", ["3d", "axisymmetric"])
-def test_uniaxial_stress_compression_in_3d_and_axisymmetric(analysis):
+@pytest.mark.parametrize("analysis, update", [("3d", "usl"), ("axisymmetric", "usl"),
+                                              ("3d", "musl"), ("axisymmetric", "musl")])
+def test_uniaxial_stress_compression_in_3d_and_axisymmetric(analysis, update):
     """A cube (three symmetry planes) and a solid cylinder (axisymmetric, free outer
     surface) compressed 20 % by a dead load: stretches, F and the axial Cauchy stress
     against the closed-form uniaxial-stress state (x and z free), and the stored energy
-    of Eq 18 (energy balance of the damped run). Measured at 8 cells per side: stretches
-    within 0.08 %, stress within 0.1 %, energy balance 0.4 % (3D) / 0.7 %
-    (axisymmetric, grid damping included)."""
+    of Eq 18 (energy balance of the damped run). Measured at 8 cells per side: USL
+    stretches within 0.08 %, stress within 0.1 %, energy balance 0.4 % (3D) / 0.7 %
+    (axisymmetric, grid damping included); MUSL stretches within 0.04 %, stress 0.2 %
+    (its damped-run balance, -1.6 %, is that of the linear MUSL runs too: not asserted)."""
     size = 4.0
     case = _compression_case(analysis=analysis, size=size)
-    res = mpm.solve(case, cell=0.5, ppc=2, progress=False)
+    res = mpm.solve(case, cell=0.5, ppc=2, update=update, progress=False)
     ref = neo_hookean_compression(MAT, STRETCH, "uniaxial_stress")
     end = _final_state(res)
     lam, a = end["F"][1, 1], end["F"][0, 0]
@@ -150,7 +152,8 @@ def test_uniaxial_stress_compression_in_3d_and_axisymmetric(analysis):
     V0 = size**3 if analysis == "3d" else 0.5 * size**2 * size * 2 * math.pi
     # measured +0.6 %: the stretch error times the nominal stress, dW = P dlam
     assert res.quantities["strain_energy"] == pytest.approx(V0 * ref.energy_density[0], rel=1.5e-2)
-    assert abs(res.quantities["energy_balance_error"]) < 1.5e-2
+    if update == "usl":
+        assert abs(res.quantities["energy_balance_error"]) < 1.5e-2
 
 
 @pytest.mark.parametrize("update", ["usl", "musl", "usf"])
