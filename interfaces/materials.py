@@ -251,25 +251,74 @@ class TransverselyIsotropicElastic(Material):
         return tensor_to_voigt(Cg)
 
 
+#: volumetric terms U(J) of the neo-Hookean strain energy: 004 Eq 18 (the NairnMPM
+#: default, Simo and Hughes Eq 9.2.3) and the two other forms NairnMPM offers
+VOLUMETRIC_TERMS = ("eq18", "J_minus_1_squared", "ln_J_squared")
+
+
 @_register
 @dataclass(frozen=True)
 class NeoHookean(Material):
     """Compressible neo-Hookean solid with bulk modulus K and shear modulus G (MPa).
 
-    Strain energy W = G/2 (I1bar - 3) + K/2 (J - 1)^2 (the form used by NairnMPM);
-    the small-strain stiffness is isotropic with the same K and G.
+    Strain energy per unit reference volume (004 Eq 18)
+    W = G/2 (I1 / J^(2/3) - 3) + U(J), with I1 = tr(F F^T), J = det F and, by default
+    (``volumetric = "eq18"``), U(J) = K/2 ((J^2 - 1)/2 - ln J). ``"J_minus_1_squared"``
+    gives U = K/2 (J - 1)^2 and ``"ln_J_squared"`` U = K/2 (ln J)^2; all three have
+    U''(1) = K, so the small-strain stiffness is isotropic with the same K and G.
+    Cauchy stress sigma = G J^(-5/3) dev(B) + U'(J) I with B = F F^T.
     """
 
     K: float
     G: float
     rho: float = DEFAULT_DENSITY
+    volumetric: str = "eq18"
     kind: ClassVar[str] = "neo_hookean"
 
     def __post_init__(self):
         _positive(self, "K", "G", "rho")
+        if self.volumetric not in VOLUMETRIC_TERMS:
+            raise CaseError(f"volumetric must be one of {', '.join(VOLUMETRIC_TERMS)}, "
+                            f"got {self.volumetric!r}")
 
     def stiffness3d(self) -> np.ndarray:
         return isotropic_from_KG(self.K, self.G).stiffness3d()
+
+    def volumetric_energy(self, J):
+        """U(J) (MPa = N mm / mm^3 of reference volume)."""
+        J = np.asarray(J, dtype=float)
+        if self.volumetric == "J_minus_1_squared":
+            return 0.5 * self.K * (J - 1.0) ** 2
+        if self.volumetric == "ln_J_squared":
+            return 0.5 * self.K * np.log(J) ** 2
+        return 0.5 * self.K * (0.5 * (J * J - 1.0) - np.log(J))
+
+    def volumetric_stress(self, J):
+        """U'(J), the mean Cauchy stress of the volumetric term (tension positive)."""
+        J = np.asarray(J, dtype=float)
+        if self.volumetric == "J_minus_1_squared":
+            return self.K * (J - 1.0)
+        if self.volumetric == "ln_J_squared":
+            return self.K * np.log(J) / J
+        return 0.5 * self.K * (J - 1.0 / J)
+
+    def energy_density(self, F):
+        """W(F) of 004 Eq 18 for deformation gradients F (..., 3, 3)."""
+        F = np.asarray(F, dtype=float)
+        J = np.linalg.det(F)
+        I1 = np.einsum("...ij,...ij->...", F, F)
+        return 0.5 * self.G * (I1 / np.cbrt(J) ** 2 - 3.0) + self.volumetric_energy(J)
+
+    def cauchy_stress(self, F):
+        """Cauchy stress (..., 3, 3) for deformation gradients F (..., 3, 3)."""
+        F = np.asarray(F, dtype=float)
+        J = np.linalg.det(F)
+        B = F @ np.swapaxes(F, -1, -2)
+        I1 = np.trace(B, axis1=-2, axis2=-1)
+        eye = np.eye(3)
+        dev = B - (I1 / 3.0)[..., None, None] * eye
+        return (self.G * J ** (-5.0 / 3.0))[..., None, None] * dev \
+            + np.asarray(self.volumetric_stress(J))[..., None, None] * eye
 
 
 @_register

@@ -113,16 +113,20 @@ def radial_velocity(x, field, origin, cell, nn, lp, kind, mass, mom, out):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def hoop_stress_update(d_hoop, strain_before, stress, strain, pvol, pvol0, field, C) -> float:
+def hoop_stress_update(d_hoop, strain_before, stress, strain, pvol, pvol0, field, C,
+                       mkind) -> float:
     """Complete a step's stress update with the hoop strain increment ``d_hoop``
     (d eps_tt per particle): the planar kernels have added C[:3, :3] d eps_in, where
     d eps_in = strain[:, :3] - strain_before[:, :3]; this adds C[:3, 3] d eps_tt to the
     in-plane stresses and C[3, :3] d eps_in + C[3, 3] d eps_tt to sigma_tt, scales the
     volume by 1 + d eps_tt and returns the strain energy sum 1/2 V0 sigma . eps (per
-    radian, four components)."""
+    radian, four components). The particles of finite-strain fields (``mkind[f]``
+    nonzero) are left to :mod:`mpm.finite_strain` (hoop stretch r / r_0 in F)."""
     U = 0.0
     for p in range(stress.shape[0]):
         f = field[p]
+        if mkind[f] != 0:
+            continue
         dt_ = d_hoop[p]
         s3 = C[f, 3, 3] * dt_
         for a in range(3):

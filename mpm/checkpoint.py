@@ -3,7 +3,8 @@ wall time and on Ctrl-C, from which ``mpm.solve(..., resume=True)`` continues.
 
 The state is what the compiled step does not rebuild every step (mpm/LAYOUT.md: the
 nodal fields are zeroed and re-extrapolated each step): the particle arrays that
-change (positions, velocities, stresses, strains, volumes), the run's clock and
+change (positions, velocities, stresses, strains, volumes, deformation gradients and
+the loaded-edge offsets they carry), the run's clock and
 history, the adaptive damping and time limit, the last interval's snapshot (Rayleigh
 period), the gauges and the VTK frames. A resumed run repeats the uninterrupted one
 bit for bit: the output intervals, hence the damping updates, fall on the same steps.
@@ -28,7 +29,7 @@ from interfaces.errors import CaseError
 _NEUTRAL_OPTIONS = ("progress", "checkpoint", "checkpoint_every", "resume", "vtk_dir")
 
 #: particle arrays that evolve during a run
-_PARTICLE_ARRAYS = ("x", "v", "stress", "strain", "volume")
+_PARTICLE_ARRAYS = ("x", "v", "stress", "strain", "volume", "F", "foff")
 
 
 def fingerprint(case, opts: dict) -> str:
@@ -90,7 +91,8 @@ def load(path: str | os.PathLike, model, runner) -> None:
                         "or other options; run without resume (or with the same case and options)")
     pt = model.particles
     for k in _PARTICLE_ARRAYS:
-        getattr(pt, k)[...] = data[f"particle_{k}"]
+        if f"particle_{k}" in data:     # checkpoints written before F was kept: identity
+            getattr(pt, k)[...] = data[f"particle_{k}"]
     runner.t, runner.steps = float(scalars["t"]), int(scalars["steps"])
     hist = data["history"]
     runner.hist_chunks = [hist] if hist.shape[0] else []

@@ -397,10 +397,19 @@ def _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol):
     pvol[p] *= 1.0 + e0 + e1
 
 
+@njit(cache=True, inline="always")
+def store_gradient_2d(velgrad, p, L00, L01, L10, L11):
+    """velgrad[p] = L (finite-strain fields, :mod:`mpm.finite_strain`)."""
+    velgrad[p, 0, 0] = L00
+    velgrad[p, 0, 1] = L01
+    velgrad[p, 1, 0] = L10
+    velgrad[p, 1, 1] = L11
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
            origin, cell, nn, lp, kind, dt, pic, update_stress,
-           nvel, nacc):
+           nvel, nacc, velgrad, mkind):
     """Grid-to-particle update (004 Eq 28, 32 with f^{C,1}) and USL stress update.
 
     a = force/mass (``nacc``) and v+ = momentum/mass (``nvel``) of the particle's own
@@ -412,12 +421,15 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
     particle kinetic energy carries FLIP null-space velocities (004 Sec 3.3), and the
     nodal sum |p+|^2 / 2m has a floor from nodes holding only particle tails (bodies whose
     edges cut cells), where the unbalanced force of a tiny mass gives a large velocity
-    that no particle follows (S_ip v_i -> 0). Serial;
+    that no particle follows (S_ip v_i -> 0). The particles of a finite-strain field
+    (``mkind[f]`` nonzero, :mod:`mpm.finite_strain`) only get their velocity gradient
+    stored in ``velgrad[p]`` (their stress update and energy are those of
+    :func:`mpm.finite_strain.finite_strain_update`). Serial;
     :func:`mpm.parallel.g2p_blocks_2d` runs :func:`g2p_range_2d` over particle blocks.
     """
     return g2p_range_2d(0, x.shape[0], x, v, pmass, pvol, pvol0, stress, strain, field, fext,
                         foff, load_scale, C, origin, cell, nn, lp, kind, dt, pic,
-                        update_stress, nvel, nacc)
+                        update_stress, nvel, nacc, velgrad, mkind)
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
@@ -452,7 +464,8 @@ def _gather_row3(k, st, wy, dwy, w0, w1, w2, d0, d1, d2, vf, af):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
-                 load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc):
+                 load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc,
+                 velgrad, mkind):
     """:func:`g2p_2d` for particles lo..hi-1 (each particle only touches its own data).
 
     The gather runs over the fixed 3 x 3 stencil of :func:`mpm.shape.axis_weights3`
@@ -507,6 +520,11 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
         v[p, 1] = (1.0 - pic) * (v[p, 1] + dt * ay) + pic * vy
         ke += 0.5 * pmass[p] * (v[p, 0] * v[p, 0] + v[p, 1] * v[p, 1])
         ke_grid += 0.5 * pmass[p] * (vx * vx + vy * vy)
+        if mkind[f] != 0:
+            # finite-strain field: mpm.finite_strain updates F, stress and energy
+            if update_stress:
+                store_gradient_2d(velgrad, p, L00, L01, L10, L11)
+            continue
         s0 = stress[p, 0]
         s1 = stress[p, 1]
         s2 = stress[p, 2]
@@ -539,13 +557,14 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn, lp, kind,
-                        dt, mass, mom):
+                        dt, mass, mom, velgrad, mkind):
     """Stress update with L = sum (p_i/m_i) (x) grad S_ip of the particle's own field.
 
     USF: called with the (contact-corrected) initial extrapolation; MUSL: with the
     momenta re-extrapolated from the updated particle velocities (mass-weighted
     averages of particle velocities, so nodes holding only the tails of particles
-    cannot feed huge velocities into L). Returns the strain energy.
+    cannot feed huge velocities into L). Returns the strain energy of the linear
+    fields; a finite-strain field's L is stored in ``velgrad`` (:func:`g2p_2d`).
     """
     wx = np.empty(3)
     dwx = np.empty(3)
@@ -580,6 +599,9 @@ def stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, 
                 L01 += vnx * gy
                 L10 += vny * gx
                 L11 += vny * gy
+        if mkind[f] != 0:
+            store_gradient_2d(velgrad, p, L00, L01, L10, L11)
+            continue
         _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol)
         U += 0.5 * pvol0[p] * (stress[p, 0] * strain[p, 0] + stress[p, 1] * strain[p, 1]
                                + stress[p, 2] * strain[p, 2])

@@ -176,6 +176,14 @@ def stress_increment_3d(p, f, L, dt, C, stress, strain, pvol) -> None:
     pvol[p] *= 1.0 + de[0] + de[1] + de[2]
 
 
+@njit(cache=True, inline="always")
+def store_gradient_3d(velgrad, p, L) -> None:
+    """velgrad[p] = L (finite-strain fields, :mod:`mpm.finite_strain`)."""
+    for i in range(3):
+        for j in range(3):
+            velgrad[p, i, j] = L[i, j]
+
+
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def _strain_energy(p, pvol0, stress, strain) -> float:
     s = 0.0
@@ -186,10 +194,12 @@ def _strain_energy(p, pvol0, stress, strain) -> float:
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def g2p_range_3d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
-                 load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc):
+                 load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc,
+                 velgrad, mkind):
     """Grid-to-particle update of particles lo..hi-1 (the 3D form of
     :func:`mpm.kernels.g2p_range_2d`: FLIP with the ``pic`` blend, x += dt S v+,
-    L = sum v+ (x) grad S, USL stress update); returns (kinetic energy, strain energy,
+    L = sum v+ (x) grad S, USL stress update, or L stored in ``velgrad`` for a
+    finite-strain field); returns (kinetic energy, strain energy of the linear fields,
     external work, lost particle or -1, grid kinetic energy)."""
     ke = 0.0
     ke_grid = 0.0
@@ -245,6 +255,10 @@ def g2p_range_3d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
             v[p, d] = (1.0 - pic) * (v[p, d] + dt * acc[d]) + pic * vel[d]
             ke += 0.5 * pmass[p] * v[p, d] * v[p, d]
             ke_grid += 0.5 * pmass[p] * vel[d] * vel[d]
+        if mkind[f] != 0:
+            if update_stress:
+                store_gradient_3d(velgrad, p, L)
+            continue
         if update_stress:
             stress_increment_3d(p, f, L, dt, C, stress, strain, pvol)
         U += _strain_energy(p, pvol0, stress, strain)
@@ -253,10 +267,11 @@ def g2p_range_3d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def stress_from_grid_3d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn, lp, kind,
-                        dt, mass, mom):
+                        dt, mass, mom, velgrad, mkind):
     """Stress update with L = sum (p_i/m_i) (x) grad S_ip of the particle's own field
     (USF: initial extrapolation; MUSL: re-extrapolated momenta); returns the strain
-    energy. The 3D form of :func:`mpm.kernels.stress_from_grid_2d`."""
+    energy of the linear fields (finite-strain fields: L stored in ``velgrad``). The 3D
+    form of :func:`mpm.kernels.stress_from_grid_2d`."""
     nx = nn[0]
     ny = nn[1]
     U = 0.0
@@ -286,6 +301,9 @@ def stress_from_grid_3d(x, pvol, pvol0, stress, strain, field, C, origin, cell, 
                         vi = mom[n, f, i] / m
                         for j in range(3):
                             L[i, j] += vi * g[j]
+        if mkind[f] != 0:
+            store_gradient_3d(velgrad, p, L)
+            continue
         stress_increment_3d(p, f, L, dt, C, stress, strain, pvol)
         U += _strain_energy(p, pvol0, stress, strain)
     return U

@@ -17,7 +17,8 @@ def stiffness_quantities(case, particles, loads: list[dict], stored_energy: floa
 
     <u> are averages over the particles in the first row along each listed side,
     extrapolated from the particle centre to the side itself with the particle strain
-    (u + eps . offset, exact for a linear field; ``stiffness_particle_rows`` uses the
+    (u + eps . offset, exact for a linear field; finite-strain particles use their
+    displacement gradient F - I; ``stiffness_particle_rows`` uses the
     particle-centre values as they are); P is the total
     applied traction force in ``direction`` on the load sides. Empty dict if the case
     asks for no stiffness; a warning if no traction acts on the load sides.
@@ -39,7 +40,7 @@ def stiffness_quantities(case, particles, loads: list[dict], stored_energy: floa
             normal = np.asarray(case.body(b).shape.edge_normal(s), float)
             off = normal * (0.5 * float(np.abs(normal) @ particles.spacing))
             rows.append(u[idx])
-            edge.append(u[idx] + (_strain_tensor(particles.strain[idx]) @ off) @ e)
+            edge.append(u[idx] + (_displacement_gradient(particles, idx) @ off) @ e)
         return float(np.mean(np.concatenate(rows))), float(np.mean(np.concatenate(edge)))
 
     u_load_p, u_load = mean_u(spec.get("load", []), "load")
@@ -121,6 +122,18 @@ def _direction(direction, D: int) -> np.ndarray:
 
 #: tensor index pairs of the Voigt rows: 2D [xx, yy, gamma_xy], 3D [xx, yy, zz, yz, xz, xy]
 _VOIGT_PAIRS = {3: ((0, 0), (1, 1), (0, 1)), 6: ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))}
+
+
+def _displacement_gradient(particles, idx: np.ndarray) -> np.ndarray:
+    """(n, D, D) displacement gradients of particles ``idx``: the small strain of a
+    linear field, F - I where the particle carries a deformation gradient (finite-strain
+    fields, mpm/finite_strain.py; a linear field's F stays the identity)."""
+    H = _strain_tensor(particles.strain[idx])
+    D = H.shape[1]
+    F = particles.F[idx]
+    moved = np.any(F != np.eye(3), axis=(1, 2))
+    H[moved] = F[moved][:, :D, :D] - np.eye(D)
+    return H
 
 
 def _strain_tensor(voigt: np.ndarray) -> np.ndarray:

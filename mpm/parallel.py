@@ -70,16 +70,16 @@ def p2g_range(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp
 
 @njit(cache=True, inline="always")
 def g2p_range(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
-              origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc):
+              origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad, mkind):
     """:func:`mpm.kernels.g2p_range_2d` or :func:`mpm.kernels3d.g2p_range_3d` by the
     particles' dimension."""
     if x.shape[1] == 3:
         return g2p_range_3d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
                             load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress,
-                            nvel, nacc)
+                            nvel, nacc, velgrad, mkind)
     return g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
                         load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel,
-                        nacc)
+                        nacc, velgrad, mkind)
 
 
 @njit(cache=True, parallel=True)
@@ -182,14 +182,16 @@ def p2g_blocks(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
 
 @njit(cache=True, parallel=True)
 def _g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
-                origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, out):
+                origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad, mkind,
+                out):
     P = x.shape[0]
     for ib in prange(nb):
         lo = ib * P // nb
         hi = (ib + 1) * P // nb
         ke, U, work, lost, keg = g2p_range(lo, hi, x, v, pmass, pvol, pvol0, stress, strain,
                                            field, fext, foff, load_scale, C, origin, cell, nn,
-                                           lp, kind, dt, pic, update_stress, nvel, nacc)
+                                           lp, kind, dt, pic, update_stress, nvel, nacc,
+                                           velgrad, mkind)
         out[ib, 0] = ke
         out[ib, 1] = U
         out[ib, 2] = work
@@ -199,16 +201,18 @@ def _g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
 
 @njit(cache=True)
 def g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale,
-                  C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc):
-    """:func:`mpm.kernels.g2p_2d` (same return value) over ``nb`` particle blocks in
+                  C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad,
+                  mkind):
+    """:func:`mpm.kernels.g2p_2d` (same arguments and return value) over ``nb`` particle blocks in
     parallel, the energy sums added in block order; serial when ``nb`` < 2."""
     if nb < 2:
         return g2p_range(0, x.shape[0], x, v, pmass, pvol, pvol0, stress, strain, field,
                          fext, foff, load_scale, C, origin, cell, nn, lp, kind, dt, pic,
-                         update_stress, nvel, nacc)
+                         update_stress, nvel, nacc, velgrad, mkind)
     out = np.empty((nb, 5))
     _g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
-                origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, out)
+                origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad, mkind,
+                out)
     ke = 0.0
     U = 0.0
     work = 0.0

@@ -13,6 +13,7 @@ import numpy as np
 
 from interfaces.errors import CaseError
 
+from .finite_strain import identity_gradients
 from .grid import Grid
 
 
@@ -27,12 +28,18 @@ class Particles:
     volume0: np.ndarray  # (P,) initial volume (x thickness in 2D)
     volume: np.ndarray  # (P,) current volume
     field: np.ndarray   # (P,) int64 body (= material field) index
-    stress: np.ndarray  # (P, nv) Voigt stress [xx, yy, xy]
-    strain: np.ndarray  # (P, nv) Voigt small strain, engineering shear
+    stress: np.ndarray  # (P, nv) Voigt Cauchy stress [xx, yy, xy]
+    strain: np.ndarray  # (P, nv) Voigt small strain (finite-strain fields: Green-Lagrange), engineering shear
     fext: np.ndarray    # (P, D) full (un-ramped) traction force on the particle
     foff: np.ndarray    # (P, D) offset from the particle centre to its loaded edge
     spacing: np.ndarray  # (D,) particle spacing = cell / ppc
     lp: np.ndarray      # (D,) particle half-width (uGIMP)
+    F: np.ndarray | None = None  # (P, 3, 3) deformation gradient (mpm.finite_strain); identity
+    foff0: np.ndarray | None = None  # (P, D) undeformed foff (finite-strain fields: foff = F foff0)
+
+    def __post_init__(self):
+        if self.F is None:
+            self.F = identity_gradients(self.P)
 
     @property
     def P(self) -> int:

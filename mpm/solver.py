@@ -32,6 +32,7 @@ from . import axisymmetric as AX
 from . import checkpoint
 from . import state as S
 from .boundary import ghost_nodes, nodal_conditions, ramp_code, with_axis_conditions
+from .finite_strain import material_tables, unsupported_material
 from .gauges import StressGauges
 from .grid import Grid, NodalFields
 from .parallel import p2g_range
@@ -85,7 +86,7 @@ def supports(case) -> str | None:
         if lo[0] < 0.0:
             return (f"axisymmetric bodies must lie at r = x >= 0, the case reaches x = "
                     f"{lo[0]:g} mm")
-    return None
+    return unsupported_material(case)
 
 
 class Model:
@@ -105,6 +106,7 @@ class Model:
             self.particles.lp[:] = 0.0
         D = self.grid.D
         self.loads = apply_tractions(case, self.particles, D)
+        self.particles.foff0 = self.particles.foff.copy()   # finite strain: foff = F foff0
         self.M = len(case.bodies)
         self.nodal = NodalFields(self.grid.N, self.M, D)
         mats = [case.materials[b.material] for b in case.bodies]
@@ -116,6 +118,8 @@ class Model:
         if self.axisymmetric:
             C = [AX.stiffness_rzt(c) for c in C]   # particle order [rr, zz, rz, tt]
         self.C = np.ascontiguousarray(np.array(C, float))
+        # the stress update of each field: small-strain linear or finite-strain (F)
+        self.material_kind, self.material_params = material_tables(case)
         self.tables = None
         self.node_out = None
         rigid = np.zeros(self.M, bool)
@@ -197,7 +201,8 @@ class Model:
         thickness = AX.node_radii(g.node_positions(), g.cell) if self.axisymmetric \
             else self.case.thickness
         return (S.step_control(self), S.particle_state(self.particles, self.axisymmetric,
-                                                   self.opts["update"] == "musl"),
+                                                   self.opts["update"] == "musl",
+                                                   bool(np.any(self.material_kind))),
                 S.grid_spec(g, self.kind, self.axis_nodes),
                 S.nodal_state(self.nodal, self.bcs.ghosts is not None and
                               self.bcs.ghosts.node.size > 0),
@@ -643,6 +648,8 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
                   "stress": pt.stress.copy(), "strain": pt.strain.copy(),
                   "material": pt.field.copy(), "velocity": pt.v.copy(),
                   "volume": pt.volume0.copy()}
+    if np.any(model.material_kind):
+        res.fields["deformation_gradient"] = pt.F.reshape(pt.P, 9).copy()
     spacing = float(np.max(np.asarray(model.grid.cell, float) / np.asarray(opts["ppc"], float)))
     res.profiles.update(line_profiles(case, pt.x0, pt.x - pt.x0, spacing))
     if model.node_out is not None and u_int != 0.0:

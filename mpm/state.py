@@ -37,6 +37,9 @@ class ParticleState(NamedTuple):
     r_before: np.ndarray       # axisymmetric work arrays (zero rows otherwise)
     strain_before: np.ndarray
     d_hoop: np.ndarray
+    F: np.ndarray              # (P, 3, 3) deformation gradients (mpm.finite_strain)
+    velgrad: np.ndarray        # (P, D, D) velocity gradients of finite-strain fields (else 0 rows)
+    foff0: np.ndarray          # (P, D) undeformed loaded-edge offsets (foff = F foff0)
 
 
 class GridSpec(NamedTuple):
@@ -133,18 +136,25 @@ class StepControl(NamedTuple):
     mass_tolerance: float
     axisymmetric: bool
     C: np.ndarray
+    finite_strain: bool        # some field takes the finite-strain update (mpm.finite_strain)
+    material_kind: np.ndarray  # per field: mpm.finite_strain.LINEAR / NEO_HOOKEAN
+    material_params: np.ndarray
 
 
-def particle_state(pt, axisymmetric: bool, musl: bool) -> ParticleState:
+def particle_state(pt, axisymmetric: bool, musl: bool, finite_strain: bool = False) -> ParticleState:
     """Bundle of :class:`mpm.particles.Particles` (LR radii: half the spacing) with the
-    work arrays of MUSL and axisymmetric runs."""
+    work arrays of MUSL, axisymmetric and finite-strain runs."""
     half_width = np.ascontiguousarray(np.broadcast_to(0.5 * np.asarray(pt.spacing, float),
                                                       pt.x.shape))
     n = pt.P if axisymmetric else 0
+    if pt.foff0 is None:              # particles without a Model (the loads as they are)
+        pt.foff0 = pt.foff.copy()
     return ParticleState(pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain,
                          pt.field, pt.x0, pt.fext, pt.foff, pt.lp, half_width,
                          np.zeros((pt.P if musl else 0, pt.x.shape[1])), np.zeros(n),
-                         np.zeros((n, pt.strain.shape[1])), np.zeros(n))
+                         np.zeros((n, pt.strain.shape[1])), np.zeros(n), pt.F,
+                         np.zeros((pt.P if finite_strain else 0, pt.x.shape[1], pt.x.shape[1])),
+                         pt.foff0)
 
 
 def grid_spec(grid, kind: int, axis_nodes: np.ndarray) -> GridSpec:
@@ -206,4 +216,6 @@ def step_control(model) -> StepControl:
                        opts["damping"] == "kinetic", opts["nodal_displacement"] == "linear",
                        bool(with_interface), bool(with_interface and not model.force_limiting),
                        bool(tb is not None and tb.uses_lr), mass_tol,
-                       model.case.analysis == "axisymmetric", model.C)
+                       model.case.analysis == "axisymmetric", model.C,
+                       bool(np.any(model.material_kind)), model.material_kind,
+                       model.material_params)

@@ -19,7 +19,8 @@ mpm/LAYOUT.md:
 6. :func:`phase_grid_update`: grid damping, momentum update, nodal velocity conditions;
 7. :func:`phase_contact` 1 and the bonded velocity conditions (004 Eq 31, 33);
 8. :func:`phase_g2p`: FLIP/PIC particle update, x += dt sum S v+, velocity gradient,
-   and (USL) the stress update (axisymmetric: with the hoop strain);
+   and (USL) the stress update (axisymmetric: with the hoop strain; the fields with a
+   deformation gradient: :func:`phase_finite_strain`, mpm/finite_strain.py);
 9. MUSL only: :func:`phase_musl` (stress from the updated particle momenta
    re-extrapolated with the start-of-step shape functions);
 10. kinetic damping and the history row.
@@ -44,6 +45,7 @@ from .extrapolation import displacement_to_nodes
 from .kernels import (MUSL, USF, USL, fold_ghosts, grid_update, multimaterial_nodes,
                       nodal_kinematics, p2g_internal_force_2d, p2g_momentum_2d, ramp,
                       reflect_ghosts, set_velocity_bc, step_velocities, stress_from_grid_2d)
+from .finite_strain import finite_strain_update
 from .multimaterial_constants import OUT_STATUS, STATUS_OVER_LIMIT
 from .multimaterial_kernels import (bonded_velocity_bc_kernel, correct_momentum_kernel,
                                     interface_forces_kernel, stick_limited_kernel)
@@ -125,14 +127,28 @@ def phase_contact(phase, ctl, grid, nd, pairs, nodes) -> None:
 def phase_stress(ctl, pt, grid, nd, x) -> float:
     """Stress update from the nodal momenta with the shape functions at positions ``x``
     (USF: before the update, at the particles; MUSL: after the re-extrapolation, at the
-    start-of-step positions); returns the strain energy."""
+    start-of-step positions); returns the strain energy of the linear fields (the
+    finite-strain fields get their velocity gradients stored for
+    :func:`phase_finite_strain`)."""
     if x.shape[1] == 3:
         return stress_from_grid_3d(x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                                    ctl.C, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
-                                   ctl.dt, nd.mass, nd.momentum)
+                                   ctl.dt, nd.mass, nd.momentum, pt.velgrad, ctl.material_kind)
     return stress_from_grid_2d(x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                                ctl.C, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind, ctl.dt,
-                               nd.mass, nd.momentum)
+                               nd.mass, nd.momentum, pt.velgrad, ctl.material_kind)
+
+
+@njit(cache=True, inline="always")
+def phase_finite_strain(ctl, pt) -> float:
+    """The finite-strain fields' stress update from the velocity gradients the stress
+    phase stored (mpm/finite_strain.py: F <- (I + dt L) F, V = J V0, neo-Hookean Cauchy
+    stress of 004 Eq 18); returns their strain energy (0 without such fields)."""
+    if not ctl.finite_strain:
+        return 0.0
+    return finite_strain_update(pt.velgrad, pt.F, pt.stress, pt.strain, pt.volume, pt.volume0,
+                                pt.x, pt.x0, pt.foff, pt.foff0, pt.field, ctl.material_kind,
+                                ctl.material_params, ctl.dt, ctl.axisymmetric)
 
 
 @njit(cache=True, inline="always")
@@ -230,8 +246,11 @@ def phase_grid_update(ctl, alpha, nd, bc, vel):
 @njit(cache=True, inline="always")
 def phase_g2p(ctl, pt, grid, nd, blocks, scale):
     """Step 8: nodal velocity and acceleration, then G2P over the particle blocks (FLIP
-    with the ``pic`` blend; USL also updates the stress). Returns (kinetic, strain
-    energy, external work increment, lost particle or -1, grid kinetic energy)."""
+    with the ``pic`` blend; USL also updates the stress, the finite-strain fields' after
+    the particles moved, so the hoop stretch is r+ / r0). Returns (kinetic, strain
+    energy of the linear fields (USL and USF: of every field but the finite-strain
+    fields' of USF, added by the caller), external work increment, lost particle or -1,
+    grid kinetic energy)."""
     nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
     if ctl.mode == MUSL:
         pt.x_before[:] = pt.x
@@ -242,11 +261,14 @@ def phase_g2p(ctl, pt, grid, nd, blocks, scale):
     ke, U, work, lost, ke_grid = g2p_blocks(
         blocks.mass.shape[0], pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain,
         pt.field, pt.fext, pt.foff, scale, ctl.C, grid.origin, grid.cell, grid.nn, pt.lp,
-        grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity, nd.acceleration)
+        grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity, nd.acceleration, pt.velgrad,
+        ctl.material_kind)
     if hoop and lost < 0:
         hoop_from_motion(pt.x, pt.r_before, pt.d_hoop)
         U = hoop_stress_update(pt.d_hoop, pt.strain_before, pt.stress, pt.strain, pt.volume,
-                               pt.volume0, pt.field, ctl.C)
+                               pt.volume0, pt.field, ctl.C, ctl.material_kind)
+    if ctl.mode == USL and lost < 0:
+        U += phase_finite_strain(ctl, pt)
     return ke, U, work, lost, ke_grid
 
 
@@ -258,7 +280,8 @@ def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes) -> float:
     this step stay those of the first extrapolation), the velocity conditions, the
     contact correction and the stick of the force-limited interface directions on
     ``nodes`` applied to them, then the strain increment from them
-    with the same shape-function gradients; returns the strain energy."""
+    with the same shape-function gradients (finite-strain fields: F from them, hoop
+    stretch r+ / r0); returns the strain energy."""
     x = pt.x_before
     if x.shape[1] == 3:
         p2g_momentum_3d(x, pt.v, pt.mass, pt.field, grid.origin, grid.cell, grid.nn, pt.lp,
@@ -275,7 +298,7 @@ def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes) -> float:
             stick_limited_kernel(nd.mass, nd.momentum, pairs.node_out, nodes)
         phase_bonded_conditions(ctl, nd, bc, pairs, vel, False)
     if not ctl.axisymmetric:
-        return phase_stress(ctl, pt, grid, nd, x)
+        return phase_stress(ctl, pt, grid, nd, x) + phase_finite_strain(ctl, pt)
     pt.strain_before[:] = pt.strain
     phase_stress(ctl, pt, grid, nd, x)
     radial_velocity(x, pt.field, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
@@ -283,7 +306,8 @@ def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes) -> float:
     for p in range(x.shape[0]):
         pt.d_hoop[p] *= ctl.dt / x[p, 0]
     return hoop_stress_update(pt.d_hoop, pt.strain_before, pt.stress, pt.strain, pt.volume,
-                              pt.volume0, pt.field, ctl.C)
+                              pt.volume0, pt.field, ctl.C, ctl.material_kind) \
+        + phase_finite_strain(ctl, pt)
 
 
 @njit(cache=True, inline="always")
@@ -321,8 +345,10 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
     multi = nodes.size > 0
     if multi:
         phase_contact(0, ctl, grid, nd, pairs, nodes)
+    u_finite = 0.0
     if ctl.mode == USF:
         phase_stress(ctl, pt, grid, nd, pt.x)
+        u_finite = phase_finite_strain(ctl, pt)
         phase_internal_force(pt, grid, nd)
     u_int = 0.0
     if multi and ctl.with_interface:
@@ -337,6 +363,7 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
     if ctl.mode == MUSL:
         U = phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes)
     row[1] = ke
+    U += u_finite
     row[2] = U
     row[3] = work
     row[4] = diss

@@ -8,6 +8,8 @@
 * composite-spheres bulk modulus with a spring interface (000 Sec 3, Hashin);
 * composite-cylinders transverse (plane-strain) bulk modulus with a spring interface;
 * interphase -> interface parameters (002 Eq 52);
+* homogeneous compression of a neo-Hookean block (004 Eq 18; plane strain, uniaxial
+  stress and strain), the reference of the finite-strain MPM tests;
 * the shock Hugoniot of a Mie-Grueneisen solid (004 Sec 4.3, Eq 51).
 
 ``registry.MODELS`` / ``registry.PROFILES`` map the model names used in
@@ -26,6 +28,8 @@ from interfaces.analytic.dls import (DoubleLapShear, dls_axial_stress, dls_beta_
                                      dls_identical_beta, dls_identical_compliance, dls_identical_stiffness,
                                      dls_long_bond_stiffness, dls_shear_stress, dls_stiffness)
 from interfaces.analytic.hugoniot import ShockHugoniot, ShockState
+from interfaces.analytic.hyperelastic import (neo_hookean_compression, nominal_stress_for_stretch,
+                                              stretch_for_nominal_stress)
 from interfaces.analytic.interphase import interphase_to_interface
 from interfaces.analytic.registry import MODELS, PROFILES, model_names
 from interfaces.analytic.solve import solve
@@ -42,6 +46,7 @@ __all__ = [
     "dls_identical_compliance", "dls_identical_stiffness", "dls_long_bond_stiffness",
     "dls_shear_stress", "dls_stiffness",
     "ShockHugoniot", "ShockState", "interphase_to_interface",
+    "neo_hookean_compression", "nominal_stress_for_stretch", "stretch_for_nominal_stress",
     "MODELS", "PROFILES", "model_names",
     "bar_wave_speed", "dilatational_wave_speed", "impedance", "pulse_transmission",
     "wave_amplitude_ratios", "wave_reflection", "wave_transmission", "wave_transmission_identical",

@@ -32,6 +32,8 @@ Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
 * ``composite_cylinders`` (plane strain, transverse bulk modulus): K_p, G_p or (E_p,
   nu_p) of the fibre; K_m, G_m or (E_m, nu_m); a (fibre radius); phi or b; Dn = inf;
   Dt accepted and unused (axial symmetry).
+* ``shock_hugoniot`` (004 Sec 4.3 reference): rho0, C0, S1, impact_speed (mm/s),
+  symmetric = False (True: up = v / 2); profile options n_points = 101.
 """
 from __future__ import annotations
 
