@@ -5,7 +5,14 @@ needs scikit-fem) is imported lazily on first use so that ``import fem`` stays l
 """
 from __future__ import annotations
 
-__all__ = ["solve", "interface_element"]
+__all__ = ["solve", "supports", "interface_element"]
+
+
+def supports(case) -> str | None:
+    """None when FEM can run ``case``, else the one-line reason (``imperfect list`` and
+    ``--methods all`` ask it): FEM here is small-strain linear elasticity."""
+    from interfaces.materials import small_strain_refusal
+    return small_strain_refusal(case, "fem")
 
 
 def __getattr__(name):

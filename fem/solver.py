@@ -43,6 +43,7 @@ from scipy.spatial import cKDTree
 from interfaces.case import InterfacePair
 from interfaces.errors import CaseError, SolverError, check_number
 from interfaces.laws import LinearInterface
+from interfaces.materials import small_strain_refusal
 from interfaces.result import Result
 from interfaces.sparse import KINDS as SOLVER_KINDS
 from interfaces.sparse import DirectSolver, SingularMatrixError
@@ -145,6 +146,9 @@ def solve(case, **options) -> Result:
     """Static FEM solution of ``case`` (see module docstring); options override
     ``case.discretization["fem"]`` (``fem.solver.OPTIONS`` lists them)."""
     t_start = time.perf_counter()
+    reason = small_strain_refusal(case, "fem")
+    if reason is not None:
+        raise CaseError(f"fem: {reason}")
     opts = _options(case, options)
     timings = {"mesh": 0.0, "assembly": 0.0, "constraints": 0.0, "solve": 0.0, "post": 0.0}
     warnings: list[str] = []

@@ -360,6 +360,20 @@ class MieGruneisen(Material):
         return isotropic_from_KG(self.K, self.G).stiffness3d()
 
 
+FINITE_STRAIN_KINDS = ("neo_hookean", "mie_gruneisen")
+
+
+def small_strain_refusal(case, method: str) -> str | None:
+    """The one-line reason a small-strain linear method cannot run ``case`` (a material
+    defined only at finite strain: neo-Hookean, Mie-Grueneisen), or None. Running such a
+    material through its small-strain stiffness would answer a different problem."""
+    for name, mat in case.materials.items():
+        if getattr(mat, "kind", "") in FINITE_STRAIN_KINDS:
+            return (f"materials.{name} is {type(mat).__name__}, a finite-strain material; {method} "
+                    "solves small-strain linear elasticity (use mpm)")
+    return None
+
+
 def isotropic_from_KG(K: float, G: float, rho: float = DEFAULT_DENSITY) -> IsotropicElastic:
     """Isotropic material from bulk and shear moduli (MPa)."""
     K = check_number("K", K, low=0, low_open=True)

@@ -35,6 +35,7 @@ import numpy as np
 
 from interfaces.errors import CaseError
 from interfaces.laws import LinearInterface
+from interfaces.materials import small_strain_refusal
 
 from .discretization import Discretization
 
@@ -190,7 +191,7 @@ def supports(case) -> str | None:
         check_laws(case)
     except CaseError as e:
         return str(e)
-    return None
+    return small_strain_refusal(case, "cpd")
 
 
 def is_perfect(pair) -> bool:

@@ -19,6 +19,7 @@ from scipy.interpolate import RegularGridInterpolator
 
 from interfaces import Result
 from interfaces.errors import CaseError, check_number
+from interfaces.materials import small_strain_refusal
 
 from interfaces.sparse import KINDS
 
@@ -273,6 +274,9 @@ def solve(case, **options) -> Result:
     """
     t_start = time.perf_counter()
     check_laws(case)
+    reason = small_strain_refusal(case, "cpd")
+    if reason is not None:
+        raise CaseError(f"cpd: {reason}")
     o = _options(case, options)
     h = o["h"]
     delta = o["delta_factor"] * h

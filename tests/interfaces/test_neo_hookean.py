@@ -1,6 +1,8 @@
 """The neo-Hookean material of 004 Eq 18 and the closed-form homogeneous compression."""
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -76,3 +78,20 @@ def test_uniaxial_strain_closed_form():
     st = neo_hookean_compression(MAT, lam, "uniaxial_strain")
     expected = 2 * MAT.G / 3 * lam ** (-5 / 3) * (lam**2 - 1) + MAT.K / 2 * (lam - 1 / lam)
     assert st.sigma_axial[0] == pytest.approx(expected, rel=1e-13)
+
+
+def test_small_strain_methods_refuse_finite_strain_materials():
+    """FEM and CPD solve small-strain linear elasticity (CPD from elastic constants): a
+    neo-Hookean body is refused in one line, never run through its linear stiffness,
+    and `imperfect list` / `--methods all` offer only mpm."""
+    import fem
+    import peridynamics
+    from cases.library import bimaterial_square
+    from cases.methods import supported_methods
+    rubber = NeoHookean(K=2450.0, G=940.0)
+    case = dataclasses.replace(bimaterial_square(), materials={"A": rubber, "B": rubber})
+    for name, mod in (("fem", fem), ("cpd", peridynamics)):
+        assert "finite-strain material; " + name in mod.supports(case)
+        with pytest.raises(CaseError, match=f"{name}: materials.A is NeoHookean, a finite-strain material"):
+            mod.solve(case)
+    assert supported_methods(case) == ["mpm"]
