@@ -20,7 +20,8 @@ UNITS = {"stiffness": "N/mm", "stiffness_energy": "N/mm", "strain_energy": "N mm
          "kinetic_energy": "N mm", "bulk_modulus": "MPa", "bulk_modulus_pressure": "MPa", "transmitted_energy": "-", "beta_l": "-",
          "pulse_transmitted_energy": "-", "incident_pulse_energy": "N mm", "energy_balance_error": "-",
          "incident_peak_stress": "MPa", "transmitted_peak_stress": "MPa",
-         "compliance": "mm/N", "interface_energy_density": "MPa"}
+         "compliance": "mm/N", "interface_energy_density": "MPa", "contact_time": "s",
+         "shock_speed": "mm/s", "particle_speed": "mm/s", "pressure": "MPa", "longitudinal_stress": "MPa"}
 LABELS = {"ux": "u_x (mm)", "uy": "u_y (mm)", "uz": "u_z (mm)", "jump_n": "[u_n] (mm)", "jump_t": "[u_t] (mm)",
           "traction_n": "T_n (MPa)", "traction_t": "T_t (MPa)"}
 

@@ -7,7 +7,7 @@ from typing import Callable
 
 from interfaces import Case, CaseError
 
-from . import curved, library
+from . import contact, curved, library
 
 CASES: dict[str, Callable[..., Case]] = {
     "dls": library.dls,
@@ -21,6 +21,7 @@ CASES: dict[str, Callable[..., Case]] = {
     "composite_spheres": curved.composite_spheres,
     "composite_cylinders": curved.composite_cylinders,
     "inclusion": curved.inclusion,
+    "gap_contact": contact.gap_contact,
 }
 
 

@@ -40,6 +40,8 @@ MEASUREMENTS = {
     "bulk_modulus": {"strain": "positive", "volume": "positive"},
     "transmitted_energy": {"x_incident": "any", "x_interface": "any", "x_transmitted": "any",
                            "duration": "positive"},
+    "contact_time": {"body": "any", "component": "any", "sample_every": "positive",
+                     "threshold": "positive"},
 }
 
 

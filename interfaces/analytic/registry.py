@@ -29,6 +29,9 @@ Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
 * ``shock_hugoniot`` (004 Sec 4.3, Eq 51, Rankine-Hugoniot): K, rho, S1, gamma0, Y = 0
   (yield stress of the deviatoric part), impact_speed (mm/s), impact = "wall" (u_p = v)
   | "symmetric" (u_p = v / 2); profile options n_points = 41, up_max = 1.5 u_p.
+* ``gap_closure`` (004 Fig 2): gap (mm), speed (mm/s) of the pushed face, height of the
+  pushed body and its wave_speed (mm/s; default inf): contact_time = gap / speed +
+  height / wave_speed (the push reaches the body's leading face after one transit).
 * ``composite_cylinders`` (plane strain, transverse bulk modulus): K_p, G_p or (E_p,
   nu_p) of the fibre; K_m, G_m or (E_m, nu_m); a (fibre radius); phi or b; Dn = inf;
   Dt accepted and unused (axial symmetry).
@@ -43,7 +46,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from interfaces.analytic._checks import CaseError, interface_stiffness, positive
+from interfaces.analytic._checks import CaseError, interface_stiffness, nonnegative, positive
 from interfaces.analytic.composite_spheres import (CompositeSpheres, bulk_shear_from_young_poisson,
                                                     sphere_in_cube_volume_fraction)
 from interfaces.analytic.composite_cylinders import CompositeCylinders, plane_strain_bulk_modulus
@@ -468,7 +471,29 @@ def shock_hugoniot_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
     return {"hugoniot": model.curve(np.linspace(0.0, top, _n_points(p["n_points"])))}
 
 
-_PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA) | set(_CCA) | set(_SHOCK)
+# ---- gap closure -------------------------------------------------------------------
+_GAP = {"gap": ..., "speed": ..., "height": 0.0, "wave_speed": _INF}
+
+
+@_named
+def gap_closure(**params) -> dict[str, float]:
+    """Time for a body pushed at ``speed`` to close ``gap`` (004 Fig 2's theoretical
+    contact time), the elastic transit of the push through the body included."""
+    p = _take(params, "gap_closure", _GAP)
+    gap = positive("gap", p["gap"])
+    speed = positive("speed", p["speed"])
+    transit = nonnegative("height", p["height"]) / positive("wave_speed", p["wave_speed"], allow_inf=True)
+    return {"contact_time": gap / speed + transit}
+
+
+@_named
+def gap_closure_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
+    """No curves: the model gives one time."""
+    _take(params, "gap_closure", _GAP)
+    return {}
+
+
+_PARAMETER_NAMES = set(_DLS) | set(_DLS_ALIASES) | set(_DCB) | set(_WAVE) | set(_CSA) | set(_CCA) | set(_SHOCK) | set(_GAP)
 
 MODELS: dict[str, Callable[..., dict[str, float]]] = {
     "dls_shear_lag": dls_shear_lag,
@@ -477,6 +502,7 @@ MODELS: dict[str, Callable[..., dict[str, float]]] = {
     "composite_spheres": composite_spheres,
     "composite_cylinders": composite_cylinders,
     "shock_hugoniot": shock_hugoniot,
+    "gap_closure": gap_closure,
 }
 
 PROFILES: dict[str, Callable[..., dict[str, dict[str, np.ndarray]]]] = {
@@ -486,6 +512,7 @@ PROFILES: dict[str, Callable[..., dict[str, dict[str, np.ndarray]]]] = {
     "composite_spheres": composite_spheres_profiles,
     "composite_cylinders": composite_cylinders_profiles,
     "shock_hugoniot": shock_hugoniot_profiles,
+    "gap_closure": gap_closure_profiles,
 }
 
 

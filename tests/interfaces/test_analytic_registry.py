@@ -20,7 +20,8 @@ PARAMS = {"dls_shear_lag": DLS, "dcb_beam_foundation": DCB, "wave_transmission":
 
 def test_model_names():
     assert an.model_names() == sorted(["dls_shear_lag", "dcb_beam_foundation", "wave_transmission",
-                                       "composite_spheres", "composite_cylinders", "shock_hugoniot"])
+                                       "composite_spheres", "composite_cylinders", "shock_hugoniot",
+                                       "gap_closure"])
     assert set(an.PROFILES) == set(an.MODELS)
 
 
