@@ -22,6 +22,7 @@ CASES: dict[str, Callable[..., Case]] = {
     "composite_cylinders": curved.composite_cylinders,
     "inclusion": curved.inclusion,
     "gap_contact": contact.gap_contact,
+    "compression_20": contact.compression_20,
 }
 
 

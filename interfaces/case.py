@@ -42,6 +42,7 @@ MEASUREMENTS = {
                            "duration": "positive"},
     "contact_time": {"body": "any", "component": "any", "sample_every": "positive",
                      "threshold": "positive"},
+    "axial_stress": {"bodies": "any", "component": "any", "sample_every": "positive"},
 }
 
 

@@ -1,4 +1,5 @@
-"""Contact time of two bodies closing a gap (004 Sec 2.2, Fig 2).
+"""Mean axial stress of bodies over time, and the contact time of two bodies closing a
+gap (004 Sec 2.2, Fig 2 and 5).
 
 004 Fig 2 pushes one block onto another across a gap and reads, from the average
 axial stress, when each contact method lets the blocks touch. Here the gauge records
@@ -11,8 +12,12 @@ elastic signal and far above round-off of a body at rest, which is exactly 0).
 Samples are ``sample_every`` seconds apart (the solver's output interval is shortened
 to it), so the time is resolved to that interval.
 
+``measurements["axial_stress"]`` (004 Fig 5) records the mean axial stress over the
+particles of ``bodies`` (all deformable bodies of a stack) every ``sample_every``
+seconds; the quantity is its last value.
+
 Same interface as :class:`mpm.gauges.StressGauges` (``times``, ``samples``,
-``sample``, ``quantities``, ``history``), so the runner and the checkpoints treat both
+``sample``, ``quantities``, ``history``), so the runner and the checkpoints treat all
 alike.
 """
 from __future__ import annotations
@@ -24,32 +29,50 @@ from interfaces.errors import CaseError, check_number
 _COMPONENTS = {"xx": 0, "yy": 1}
 
 
-class ContactGauge:
-    """Mean axial stress of one body's particles over time and its first departure from 0."""
+class AxialStressGauge:
+    """Mean axial stress over the particles of some bodies, over time."""
+
+    measurement = "axial_stress"
 
     def __init__(self, case, field: np.ndarray, C: list):
-        spec = dict(case.measurements["contact_time"])     # fields checked by Case
+        spec = dict(case.measurements[self.measurement])     # fields checked by Case
         names = [b.name for b in case.bodies]
-        if spec.get("body") not in names:
-            raise CaseError(f"measurements.contact_time.body must be one of {names}, got {spec.get('body')!r}")
+        where = f"measurements.{self.measurement}"
+        bodies = spec.get("bodies", [spec.get("body")])
+        if not isinstance(bodies, (list, tuple)) or not bodies or any(b not in names for b in bodies):
+            raise CaseError(f"{where}.body(ies) must name bodies of {names}, got {bodies!r}")
         comp = spec.get("component", "yy")
         if comp not in _COMPONENTS:
-            raise CaseError(f"measurements.contact_time.component must be 'xx' or 'yy', got {comp!r}")
-        index = names.index(spec["body"])
-        self.members = np.flatnonzero(field == index)
+            raise CaseError(f"{where}.component must be 'xx' or 'yy', got {comp!r}")
+        index = [names.index(b) for b in bodies]
+        self.members = np.flatnonzero(np.isin(field, index))
         self.component = _COMPONENTS[comp]
-        self.sample_every = check_number("measurements.contact_time.sample_every",
-                                         spec.get("sample_every"), low=0.0, low_open=True)
-        modulus = float(np.max(np.diag(C[index])))
-        self.threshold = check_number("measurements.contact_time.threshold",
-                                      spec.get("threshold", 1e-9 * modulus), low=0.0, low_open=True)
+        self.sample_every = check_number(f"{where}.sample_every", spec.get("sample_every"),
+                                         low=0.0, low_open=True)
+        modulus = max(float(np.max(np.diag(C[k]))) for k in index)
+        self.threshold = check_number(f"{where}.threshold", spec.get("threshold", 1e-9 * modulus),
+                                      low=0.0, low_open=True)
         self.times: list[float] = []
         self.samples: list[tuple[float]] = []
 
     def sample(self, t: float, stress: np.ndarray) -> None:
-        """Record the body's mean axial stress at time t."""
+        """Record the bodies' mean axial stress at time t."""
         self.times.append(t)
         self.samples.append((float(stress[self.members, self.component].mean()),))
+
+    def quantities(self) -> dict:
+        return {"axial_stress": self.samples[-1][0]} if self.samples else {}
+
+    def history(self) -> dict:
+        """Time (s) and the bodies' mean axial stress (MPa), for the plots."""
+        return {"time": list(self.times),
+                "axial_stress": [s[0] for s in self.samples]}
+
+
+class ContactGauge(AxialStressGauge):
+    """Mean axial stress of the struck body over time and its first departure from 0."""
+
+    measurement = "contact_time"
 
     def contact_time(self) -> float:
         """First sample time with |mean stress| > threshold (inf if never)."""
@@ -59,8 +82,3 @@ class ContactGauge:
 
     def quantities(self) -> dict:
         return {"contact_time": self.contact_time()} if self.samples else {}
-
-    def history(self) -> dict:
-        """Time (s) and the body's mean axial stress (MPa), for the plots."""
-        return {"time": list(self.times),
-                "axial_stress": [s[0] for s in self.samples]}

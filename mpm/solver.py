@@ -33,7 +33,7 @@ from . import checkpoint
 from . import state as S
 from .boundary import ghost_nodes, nodal_conditions, ramp_code, with_axis_conditions
 from .finite_strain import material_tables, unsupported_material
-from .contact_gauge import ContactGauge
+from .contact_gauge import AxialStressGauge, ContactGauge
 from .gauges import StressGauges
 from .grid import Grid, NodalFields
 from .parallel import p2g_range
@@ -345,7 +345,7 @@ class _Runner:
         self.warnings: list[str] = []
         self.stopped_by = "max_time"
         self.snapshot = None  # (displacement, strain) at the previous interval end
-        self.gauges: StressGauges | ContactGauge | None = None
+        self.gauges: StressGauges | AxialStressGauge | None = None
         # force_limiting off: (steps with a node above the 000 Eq 26 bound, most such
         # nodes in one step, first time)
         self.over_limit = [0, 0, -1.0]
@@ -437,8 +437,9 @@ class _Runner:
         004 Fig 2 every ``sample_every`` seconds)."""
         m = self.m
         interval = max(1, int(math.ceil(0.25 * m.T1 / m.dt)))
-        if m.case.measurements.get("contact_time") is not None:
-            self.gauges = ContactGauge(m.case, m.particles.field, m.C)
+        body_gauges = [g for g in (ContactGauge, AxialStressGauge) if g.measurement in m.case.measurements]
+        if body_gauges:
+            self.gauges = body_gauges[0](m.case, m.particles.field, m.C)
             interval = min(interval, max(1, int(self.gauges.sample_every / m.dt)))
             self.gauges.sample(self.t, m.particles.stress)
         elif m.case.measurements.get("transmitted_energy") is not None:

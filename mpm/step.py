@@ -103,9 +103,10 @@ def phase_multimaterial_nodes(ctl, pt, grid, nd, pairs):
 @njit(cache=True, inline="always")
 def phase_lr(ctl, pt, grid, nd, pairs, nodes) -> None:
     """LR normals and separations of the current particle cloud on ``nodes`` (004 Eq
-    19-25; small strain: the undeformed particle radii ``pt.half_width``)."""
+    19-25): the particle radii R_p of Eq 25 from the undeformed half widths
+    ``pt.half_width``, deformed by F in finite-strain runs (linear fields keep F = I)."""
     if ctl.uses_lr and nodes.size:
-        lr_kernel(pt.x, pt.field, pt.half_width, np.zeros((1, 2, 2)), False, grid.origin,
+        lr_kernel(pt.x, pt.field, pt.half_width, pt.F, ctl.finite_strain, grid.origin,
                   grid.cell, grid.nn, nd.mass, nodes, ctl.mass_tolerance, pairs.lr_normal,
                   pairs.lr_separation)
 
