@@ -49,9 +49,8 @@ class AxialStressGauge:
         self.component = _COMPONENTS[comp]
         self.sample_every = check_number(f"{where}.sample_every", spec.get("sample_every"),
                                          low=0.0, low_open=True)
-        modulus = max(float(np.max(np.diag(C[k]))) for k in index)
-        self.threshold = check_number(f"{where}.threshold", spec.get("threshold", 1e-9 * modulus),
-                                      low=0.0, low_open=True)
+        self.modulus = max(float(np.max(np.diag(C[k]))) for k in index)
+        self.threshold = spec.get("threshold")
         self.times: list[float] = []
         self.samples: list[tuple[float]] = []
 
@@ -76,8 +75,9 @@ class ContactGauge(AxialStressGauge):
 
     def contact_time(self) -> float:
         """First sample time with |mean stress| > threshold (inf if never)."""
+        threshold = self.threshold if self.threshold is not None else 1e-9 * self.modulus
         s = np.abs(np.asarray(self.samples, float).reshape(-1))
-        hit = np.flatnonzero(s > self.threshold)
+        hit = np.flatnonzero(s > threshold)
         return float(self.times[hit[0]]) if hit.size else float("inf")
 
     def quantities(self) -> dict:

@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import cases  # noqa: E402
-from cases.contact import CONTACT_METHODS  # noqa: E402
+from cases.contact import CONTACT_METHODS, compression_strain  # noqa: E402
 from cases.methods import run  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
@@ -31,10 +31,7 @@ def stress_history(contact: str) -> tuple[np.ndarray, np.ndarray]:
     case = cases.build("compression_20", contact=contact)
     res = run(case, "mpm", progress=False)
     g = res.diagnostics["gauges"]
-    piston = next(bc for bc in case.boundary_conditions if bc.body == "piston")
-    height = sum(b.shape.height for b in case.bodies if b.name != "piston")
-    strain = -piston.value[1] * np.asarray(g["time"]) / height
-    return strain, -np.asarray(g["axial_stress"])
+    return compression_strain(case, g["time"]), -np.asarray(g["axial_stress"])
 
 
 def relative_errors() -> dict[str, tuple[np.ndarray, np.ndarray]]:
