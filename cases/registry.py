@@ -23,6 +23,8 @@ CASES: dict[str, Callable[..., Case]] = {
     "inclusion": curved.inclusion,
     "gap_contact": contact.gap_contact,
     "compression_20": contact.compression_20,
+    "three_material_node": contact.three_material_node,
+    "ellipse_compaction": contact.ellipse_compaction,
 }
 
 

@@ -43,6 +43,7 @@ MEASUREMENTS = {
     "contact_time": {"body": "any", "component": "any", "sample_every": "positive",
                      "threshold": "positive"},
     "axial_stress": {"bodies": "any", "component": "any", "sample_every": "positive"},
+    "interpenetration": {"bodies": "any"},
 }
 
 

@@ -52,7 +52,8 @@ from mpm.multimaterial_constants import (
     NORMAL_SN_RADIAL,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
-    S_DF_DS, S_DF_S0, S_SEPARATION, S_SN_X, SEP_LR, SEPARATION_CODES,
+    S_DF_DS, S_DF_S0, S_SEPARATION, S_SN_X, S_THREE_MATERIAL, SEP_LR, SEPARATION_CODES,
+    THREE_MATERIAL_CODES,
 )
 from mpm.contact_separation import separation_table
 from mpm.multimaterial_lr import lr_normals_separations  # noqa: F401  (re-exported)
@@ -97,6 +98,8 @@ DEFAULT_OPTIONS: dict = {
     "rigid_bodies": (),           # names of rigid bodies (000 Eq 28-31)
     "mass_tolerance": 0.0,        # field present at a node if m_k > tol * m_total (0: any mass)
     "lump_conserve": True,        # restore momentum balance on 3+ material nodes
+    "three_material": "lump",     # 3+ material nodes: lump (004 Eq 50) | explicit (Eq 49,
+                                  # pairs in contact solved simultaneously; contact laws only)
 }
 
 
@@ -125,6 +128,11 @@ class MultimaterialTables:
     sn_normal: np.ndarray | None = None   # radial SN: per node, from body 0 to the others
     area_reference: bool = False          # Eq 20 on the reference nodal volumes (AREA_VOLUMES)
     df_curve: np.ndarray = field(default_factory=lambda: np.zeros(0))  # DF: d(s), 004 Eq 15
+
+    @property
+    def explicit_three_material(self) -> bool:
+        """Nodes seen by 3+ materials are corrected pair by pair (004 Sec 3.4)."""
+        return int(self.settings[S_THREE_MATERIAL]) == THREE_MATERIAL_CODES["explicit"]
 
     def node_normals(self, N: int, D: int) -> np.ndarray:
         """The per-node normal buffer [N, M, D] of the step: the radial SN normals
@@ -285,6 +293,11 @@ def build_pair_tables(case, options: dict | None = None,
         raise _err(f"mpm option interface_area must be one of {list(AREA_VOLUMES)}, got {opts['interface_area']!r}")
     settings[S_FORCE_LIMIT] = 1.0 if bool(opts["force_limiting"]) else 0.0
     settings[S_LUMP_CONSERVE] = 1.0 if bool(opts["lump_conserve"]) else 0.0
+    three = str(opts["three_material"]).lower()
+    if three not in THREE_MATERIAL_CODES:
+        raise _err(f"mpm option three_material must be one of {sorted(THREE_MATERIAL_CODES)}, "
+                   f"got {opts['three_material']!r}")
+    settings[S_THREE_MATERIAL] = THREE_MATERIAL_CODES[three]
     settings[S_EDGE_CUTOFF] = _number("edge_cutoff", opts["edge_cutoff"], 0.0, 1.0)
     settings[S_CONTACT_OFFSET] = _number("contact_offset", opts["contact_offset"], 0.0, 2.0)
     settings[S_MASS_TOL] = _number("mass_tolerance", opts["mass_tolerance"], 0.0, 1.0e-2)
@@ -450,14 +463,16 @@ def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: 
                             displacement=displacement, position=position)
     if phase not in (0, 1):
         raise ValueError(f"phase must be 0 (after extrapolation) or 1 (after the update), got {phase!r}")
-    lr_normal, lr_sep = _check_lr(tables, lr, n, m, d)
+    lr_normal, lr_sep = _check_lr(tables, lr, n, m, d)[:2]
+    pair_normal, pair_sep = (lr[2], lr[3]) if lr is not None and len(lr) == 4 else \
+        (np.zeros((0, 0, d)), np.zeros((0, 0)))
     origin, nn = _grid_geometry(tables, origin, nn, n, d)
     return _k.correct_momentum_kernel(
         int(phase), mass, momentum, force, volume, volume_gradient, displacement, position,
         np.asarray(cell, dtype=np.float64), origin, nn, _thickness_array(thickness, n),
         tables.law_kind, tables.law_params, tables.settings, tables.rigid, tables.node_zone,
         tables.zone_pairs, tables.zone_kind, tables.zone_params, lr_normal, lr_sep,
-        tables.df_curve, float(dt), _node_list(nodes, n))
+        pair_normal, pair_sep, tables.df_curve, float(dt), _node_list(nodes, n))
 
 
 def _grid_geometry(tables: MultimaterialTables, origin, nn, n: int, d: int):
@@ -500,7 +515,7 @@ def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndar
     n, m, d = _check_arrays(tables, cell, mass=mass, momentum=momentum, force=force,
                             volume=volume, volume_gradient=volume_gradient,
                             displacement=displacement, position=position)
-    lr_normal, lr_sep = _check_lr(tables, lr, n, m, d)
+    lr_normal, lr_sep = _check_lr(tables, lr, n, m, d)[:2]
     if node_out is None:
         node_out = np.zeros((0, NODE_OUT_COLUMNS))
     elif node_out.shape != (n, NODE_OUT_COLUMNS):

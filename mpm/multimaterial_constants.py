@@ -40,7 +40,13 @@ S_SN_Y = 10
 S_SN_Z = 11
 S_DF_S0 = 12            # DF separation: s of the first tabulated d(s) value (cells)
 S_DF_DS = 13            # ... and the spacing of the table (cells)
-N_SETTINGS = 14
+S_THREE_MATERIAL = 14   # THREE_* code: how nodes seen by 3+ materials are corrected
+N_SETTINGS = 15
+
+# --- nodes seen by three or more materials (004 Sec 3.4) ----------------------
+THREE_LUMP = 0          # each material against the lump of the others (004 Eq 50)
+THREE_EXPLICIT = 1      # the pairs in contact per pair, 1-2 pairs solved simultaneously (Eq 49)
+THREE_MATERIAL_CODES = {"lump": THREE_LUMP, "explicit": THREE_EXPLICIT}
 
 # --- normal methods (000 Sec 2.5, 004 Eq 13, 004 Sec 3.1) -------------------
 NORMAL_SN = 0

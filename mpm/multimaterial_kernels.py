@@ -13,18 +13,21 @@ import numpy as np
 from numba import njit
 
 from mpm.multimaterial_constants import (
-    HPERP_NONE, LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, NORMAL_AG,
+    HPERP_NONE, LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, NORMAL_AG, NORMAL_LR,
     NORMAL_AVG, NORMAL_MVG, NORMAL_RMVG, NORMAL_SN, OUT_AREA, OUT_ENERGY,
     OUT_JUMP_N, OUT_JUMP_T, OUT_NX, OUT_STATUS, OUT_TRACTION_N, OUT_TRACTION_T,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
-    S_DF_DS, S_DF_S0, S_SEPARATION, S_SN_X, SEP_DF, SEP_LR, SEP_OFFSET, SEP_VELOCITY, STATUS_CONTACT,
+    S_DF_DS, S_DF_S0, S_SEPARATION, S_SN_X, S_THREE_MATERIAL, SEP_DF, SEP_LR, SEP_OFFSET,
+    SEP_VELOCITY, STATUS_CONTACT, THREE_EXPLICIT,
     STATUS_OVER_LIMIT,
     STATUS_INTERFACE, STATUS_LIMITED_N, STATUS_LIMITED_T, STATUS_SCREENED,
 )
+from mpm.multimaterial_lr import pair_index
 from mpm.multimaterial_normals import (
     any_tangent, h_perp, normal_ag, normal_avg, normal_mvg, normal_rmvg, normal_sn,
 )
+from mpm.multimaterial_three import two_pair_impulses
 
 
 # ---------------------------------------------------------------------------
@@ -349,15 +352,172 @@ def _cell_volume(cell, thick, i) -> float:
     return v
 
 
+# ---------------------------------------------------------------------------
+# nodes seen by three or more materials, pair by pair (004 Sec 3.4, Eq 49)
+# ---------------------------------------------------------------------------
+@njit(cache=True)
+def _pair_contact(i, a, b, phase, mass, mom, vol, grad, xfield, cell, origin, nn, tvol, code,
+                  settings, lr_normal, lr_sep, pair_normal, pair_sep, df, dt, n, work) -> bool:
+    """Is the pair (a, b) in contact at node i? Its own normal a -> b into ``n`` (LR: the
+    pair's regression, :func:`mpm.multimaterial_lr.lr_kernel`; grid normals: from the two
+    fields' volume gradients alone) and its own separation (Eq 24 of the pair, or the
+    displacement / offset / DF separation of the two fields); approaching and touching as
+    for two materials (000 Eq 9, 12-14). A perfect pair is always in contact."""
+    d = n.shape[0]
+    lr = int(settings[S_NORMAL]) == NORMAL_LR
+    slot = pair_index(min(a, b), max(a, b), mass.shape[1])
+    if lr:
+        s = 0.0
+        for k in range(d):
+            n[k] = pair_normal[i, slot, k] if a < b else -pair_normal[i, slot, k]
+            s += n[k] * n[k]
+        if not (s > 0.0) and not normal_mvg(grad[i, a], grad[i, b], n):
+            return False
+    elif not _node_normal(i, a, b, grad[i, a], grad[i, b], vol[i, a], vol[i, b], False, False,
+                          settings, lr_normal, n):
+        return False
+    if code == LAW_PERFECT:
+        return True
+    if vol[i, a] + vol[i, b] < settings[S_EDGE_CUTOFF] * tvol:     # edge-node screening
+        return False
+    if int(settings[S_SEPARATION]) == SEP_LR:
+        dn = pair_sep[i, slot] if lr else np.nan
+        if math.isnan(dn):
+            dn = 0.0
+            for k in range(d):
+                dn += (xfield[i, b, k] - xfield[i, a, k]) * n[k]
+    else:
+        _jump(i, a, xfield[i, a], xfield[i, b], n, cell, origin, nn, settings, lr_sep, df,
+              work[6], work[7])
+        dn = _dot(work[6], n)
+    rel = 0.0
+    for k in range(d):
+        rel += (mom[i, b, k] / mass[i, b] - mom[i, a, k] / mass[i, a]) * n[k]
+    if phase == 1:
+        dn += dt * rel
+    touching = dn <= 0.0 or int(settings[S_SEPARATION]) == SEP_VELOCITY
+    return rel < 0.0 and touching
+
+
+@njit(cache=True)
+def _explicit_three_plus(i, phase, present, npres, mass, mom, vol, grad, disp, pos, cell, origin,
+                         nn, tvol, kind, params, settings, node_zone, zone_pairs, zone_kind,
+                         zone_params, lr_normal, lr_sep, pair_normal, pair_sep, df, dt, dp,
+                         touched, work, law) -> int:
+    """004 Sec 3.4, explicit 3+ nodes: the pairs in contact found pair by pair; one pair
+    corrected as two materials, two pairs sharing a material solved together
+    (:func:`mpm.multimaterial_three.two_pair_impulses`), two unrelated pairs each on its
+    own. Returns the number of pairs corrected, or -1 when the node must be lumped
+    (three or more pairs in contact, or a pair with an imperfect-interface law)."""
+    d = mom.shape[2]
+    xfield = pos if _uses_positions(settings) else disp
+    act = np.empty((3, 2), np.int64)
+    act_code = np.empty(3, np.int64)
+    act_mu = np.empty(3)
+    act_n = np.empty((3, d))
+    nact = 0
+    for ja in range(npres):
+        for jb in range(ja + 1, npres):
+            a = present[ja]
+            b = present[jb]
+            code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+            if code == LAW_NONE:
+                continue
+            if code == LAW_IMPERFECT:
+                return -1
+            if not _pair_contact(i, a, b, phase, mass, mom, vol, grad, xfield, cell, origin, nn,
+                                 tvol, code, settings, lr_normal, lr_sep, pair_normal, pair_sep,
+                                 df, dt, work[5], work):
+                continue
+            if nact == 2:
+                return -1                            # 3+ pairs in contact: lumping (004)
+            act[nact, 0] = a
+            act[nact, 1] = b
+            act_code[nact] = code
+            act_mu[nact] = law[P_MU]
+            for k in range(d):
+                act_n[nact, k] = work[5, k]
+            nact += 1
+    if nact == 2:
+        common = _common_material(act)
+        if common >= 0:
+            _two_pairs(i, act, act_code, act_mu, act_n, common, mass, mom, dp, touched)
+            return 2
+    for q in range(nact):
+        _one_pair(i, act[q, 0], act[q, 1], act_code[q], act_mu[q], act_n[q], mass, mom, dp,
+                  touched, work, law)
+    return nact
+
+
+@njit(cache=True, inline="always")
+def _common_material(act) -> int:
+    """The material shared by the two pairs of ``act``, or -1."""
+    for u in range(2):
+        for v in range(2):
+            if act[0, u] == act[1, v]:
+                return act[0, u]
+    return -1
+
+
+@njit(cache=True)
+def _one_pair(i, a, b, code, mu, n, mass, mom, dp, touched, work, law) -> None:
+    """Momentum change of one pair in contact at a 3+ node, as at a two-material node."""
+    d = n.shape[0]
+    dp0 = work[4]
+    law[P_MU] = mu
+    m_a = mass[i, a]
+    m_b = mass[i, b]
+    for k in range(d):
+        dp0[k] = m_a * (mom[i, a, k] + mom[i, b, k]) / (m_a + m_b) - mom[i, a, k]
+    if _delta_p(code, law, dp0, n, 0.0, True, True, work[12], work[8]):
+        for k in range(d):
+            dp[a, k] += work[12, k]
+            dp[b, k] -= work[12, k]
+        touched[a] = True
+        touched[b] = True
+
+
+@njit(cache=True)
+def _two_pairs(i, act, act_code, act_mu, act_n, common, mass, mom, dp, touched) -> None:
+    """Two pairs (alpha, gamma), (beta, gamma) in contact: 004 Eq 49 solved for both laws."""
+    d = act_n.shape[1]
+    masses = np.empty(3)
+    vel = np.empty((3, d))
+    normals = np.empty((2, d))
+    J = np.empty((2, d))
+    other = np.empty(2, np.int64)
+    for q in range(2):
+        o = act[q, 0] if act[q, 1] == common else act[q, 1]
+        sign = 1.0 if act[q, 0] == o else -1.0          # act_n points act[q, 0] -> act[q, 1]
+        other[q] = o
+        masses[q] = mass[i, o]
+        for k in range(d):
+            normals[q, k] = sign * act_n[q, k]
+            vel[q, k] = mom[i, o, k] / mass[i, o]
+    masses[2] = mass[i, common]
+    for k in range(d):
+        vel[2, k] = mom[i, common, k] / mass[i, common]
+    if two_pair_impulses(masses, vel, normals, act_code[:2], act_mu[:2], J) == 0:
+        return
+    for q in range(2):
+        o = other[q]
+        touched[o] = True
+        for k in range(d):
+            dp[o, k] += J[q, k]
+            dp[common, k] -= J[q, k]
+    touched[common] = True
+
+
 @njit(cache=True)
 def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell, origin, nn, thick, kind,
                             params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
-                            lr_normal, lr_sep, df, dt, nodes) -> int:
+                            lr_normal, lr_sep, pair_normal, pair_sep, df, dt, nodes) -> int:
     """Contact corrections on all multimaterial nodes (see mpm.multimaterial.correct_momentum)."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
     tol = settings[S_MASS_TOL]
     conserve = settings[S_LUMP_CONSERVE] != 0.0
+    explicit = int(settings[S_THREE_MATERIAL]) == THREE_EXPLICIT
     present = np.empty(m, dtype=np.int64)
     dp = np.zeros((m, d))
     touched = np.zeros(m, dtype=np.bool_)
@@ -420,6 +580,13 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
                     dp[a, k] = one[k]
                     dp[b, k] = -one[k]
                 any_change = True
+        elif explicit and _explicit_three_plus(
+                i, phase, present, npres, mass, mom, vol, grad, disp, pos, cell, origin, nn, tvol,
+                kind, params, settings, node_zone, zone_pairs, zone_kind, zone_params, lr_normal,
+                lr_sep, pair_normal, pair_sep, df, dt, dp, touched, work, law) >= 0:
+            # 3+ materials, pair by pair (004 Sec 3.4, Eq 49)
+            for j in range(npres):
+                any_change = any_change or touched[present[j]]
         else:
             # 3+ materials: each against the virtual lump of all others (000 Sec 2.6,
             # 004 Eq 50), law of the partner with the most volume

@@ -214,13 +214,92 @@ def _gather_cloud(i, ring, x, field, order, start, origin, cell, nn, idx_out) ->
     return cnt
 
 
+@njit(cache=True, inline="always")
+def _in_class_b(f, a, b, mass, i, tol, mtot) -> bool:
+    """Particle field ``f`` belongs to class +1 against material ``a``: the material ``b``,
+    or (``b`` < 0) any other material present at node i (the lump of 004 Eq 50)."""
+    if f == a:
+        return False
+    if b >= 0:
+        return f == b
+    return mass[i, f] > tol * mtot
+
+
 @njit(cache=True)
-def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal, separation) -> int:
-    """LR normal and separation for every node in ``nodes`` and every present field."""
+def _cloud_plane(i, a, b, xi, x, field, r0, F, has_F, mass, mtot, tol, order, start, origin, cell, nn,
+                 idx, xs, cls, nvec) -> float:
+    """LR plane at node i between material ``a`` (class -1) and ``b`` (class +1; ``b`` < 0:
+    the lump of all other present materials) from the point cloud of the 2^D cells
+    around the node (4^D if a class is missing there): writes the unit normal a -> b to
+    ``nvec`` and returns d_LR (Eq 24), or NaN when there is no two-class cloud or the
+    regression is singular."""
+    d = x.shape[1]
+    cnt = 0
+    na = 0
+    nb = 0
+    for ring in (1, 2):
+        cnt = _gather_cloud(i, ring, x, field, order, start, origin, cell, nn, idx)
+        na = 0
+        nb = 0
+        for q in range(cnt):
+            f = field[idx[q]]
+            if f == a:
+                na += 1
+            elif _in_class_b(f, a, b, mass, i, tol, mtot):
+                nb += 1
+        if na > 0 and nb > 0:
+            break
+    if na == 0 or nb == 0:
+        return np.nan
+    npts = 0
+    for q in range(cnt):
+        p = idx[q]
+        f = field[p]
+        if f != a and not _in_class_b(f, a, b, mass, i, tol, mtot):
+            continue          # material absent from this node or not of the pair
+        for k in range(d):
+            xs[npts, k] = (x[p, k] - xi[k]) / cell[0]
+        cls[npts] = -1.0 if f == a else 1.0
+        idx[npts] = p
+        npts += 1
+    if logistic_plane(xs, cls, npts, LR_PENALTY, nvec) < 0:
+        return np.nan
+    amax = -1.0e300
+    bmin = 1.0e300
+    for q in range(npts):
+        p = idx[q]
+        proj = 0.0
+        for k in range(d):
+            proj += x[p, k] * nvec[k]
+        rp = _particle_radius(nvec, r0, F, p, has_F)
+        if cls[q] < 0.0:
+            amax = max(amax, proj + rp)
+        else:
+            bmin = min(bmin, proj - rp)
+    return bmin - amax                                          # Eq 24
+
+
+@njit(cache=True, inline="always")
+def pair_index(a, b, m) -> int:
+    """Slot of the material pair a < b among the m (m - 1) / 2 pairs."""
+    return a * m - a * (a + 1) // 2 + (b - a - 1)
+
+
+@njit(cache=True)
+def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal, separation,
+              pair_normal, pair_separation) -> int:
+    """LR normal and separation for every node in ``nodes`` and every present field
+    (against the lump of the others); with ``pair_normal`` rows (option three_material =
+    explicit), also for every pair a < b of the materials present at nodes seen by 3+
+    materials (normal a -> b in ``pair_normal[i, pair_index(a, b, m)]``)."""
     n_nodes, m = mass.shape
     d = x.shape[1]
     normal[:, :, :] = 0.0
     separation[:, :] = np.nan
+    pairs = pair_normal.shape[0] > 0
+    if pairs:
+        pair_normal[:, :, :] = 0.0
+        pair_separation[:, :] = np.nan
     order, start = _bin_particles(x, origin, cell, nn)
     cap = 4096
     idx = np.empty(cap, dtype=np.int64)
@@ -228,6 +307,7 @@ def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal
     cls = np.empty(cap)
     nvec = np.empty(d)
     present = np.empty(m, dtype=np.int64)
+    xi = np.empty(d)
     solved = 0
     for ii in range(nodes.shape[0]):
         i = nodes[ii]
@@ -241,8 +321,6 @@ def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal
                 npres += 1
         if npres < 2:
             continue
-        # node position
-        xi = np.empty(d)
         rem = i
         for k in range(d):
             xi[k] = origin[k] + (rem % nn[k]) * cell[k]
@@ -250,47 +328,10 @@ def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal
         n_solve = 1 if npres == 2 else npres
         for jj in range(n_solve):
             a = present[jj]
-            cnt = 0
-            for ring in (1, 2):
-                cnt = _gather_cloud(i, ring, x, field, order, start, origin, cell, nn, idx)
-                na = 0
-                nb = 0
-                for q in range(cnt):
-                    f = field[idx[q]]
-                    if f == a:
-                        na += 1
-                    elif mass[i, f] > tol * mtot:
-                        nb += 1
-                if na > 0 and nb > 0:
-                    break
-            if na == 0 or nb == 0:
+            dlr = _cloud_plane(i, a, -1, xi, x, field, r0, F, has_F, mass, mtot, tol, order, start,
+                               origin, cell, nn, idx, xs, cls, nvec)
+            if math.isnan(dlr):
                 continue
-            npts = 0
-            for q in range(cnt):
-                p = idx[q]
-                f = field[p]
-                if f != a and not (mass[i, f] > tol * mtot):
-                    continue          # material absent from this node: not part of the lump
-                for k in range(d):
-                    xs[npts, k] = (x[p, k] - xi[k]) / cell[0]
-                cls[npts] = -1.0 if f == a else 1.0
-                idx[npts] = p
-                npts += 1
-            if logistic_plane(xs, cls, npts, LR_PENALTY, nvec) < 0:
-                continue
-            amax = -1.0e300
-            bmin = 1.0e300
-            for q in range(npts):
-                p = idx[q]
-                proj = 0.0
-                for k in range(d):
-                    proj += x[p, k] * nvec[k]
-                rp = _particle_radius(nvec, r0, F, p, has_F)
-                if cls[q] < 0.0:
-                    amax = max(amax, proj + rp)
-                else:
-                    bmin = min(bmin, proj - rp)
-            dlr = bmin - amax                                   # Eq 24
             for k in range(d):
                 normal[i, a, k] = nvec[k]
             separation[i, a] = dlr
@@ -300,6 +341,21 @@ def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal
                     normal[i, b, k] = -nvec[k]
                 separation[i, b] = dlr
             solved += 1
+        if not pairs or npres < 3:
+            continue
+        for ja in range(npres):
+            for jb in range(ja + 1, npres):
+                a = present[ja]
+                b = present[jb]
+                dlr = _cloud_plane(i, a, b, xi, x, field, r0, F, has_F, mass, mtot, tol, order,
+                                   start, origin, cell, nn, idx, xs, cls, nvec)
+                if math.isnan(dlr):
+                    continue
+                slot = pair_index(a, b, m)
+                for k in range(d):
+                    pair_normal[i, slot, k] = nvec[k]
+                pair_separation[i, slot] = dlr
+                solved += 1
     return solved
 
 
@@ -336,5 +392,5 @@ def lr_normals_separations(x: np.ndarray, field: np.ndarray, half_width: np.ndar
     lr_kernel(x, np.ascontiguousarray(field, dtype=np.int64), r0, F_arr, has_F,
               np.asarray(origin, dtype=np.float64), np.asarray(cell, dtype=np.float64),
               np.asarray(nn, dtype=np.int64), mass, np.ascontiguousarray(nodes, dtype=np.int64),
-              float(mass_tolerance), out[0], out[1])
+              float(mass_tolerance), out[0], out[1], np.zeros((0, 0, d)), np.zeros((0, 0)))
     return out

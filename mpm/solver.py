@@ -34,6 +34,7 @@ from . import state as S
 from .boundary import ghost_nodes, nodal_conditions, ramp_code, with_axis_conditions
 from .finite_strain import material_tables, unsupported_material
 from .contact_gauge import AxialStressGauge, ContactGauge
+from .interpenetration import interpenetration_quantities
 from .gauges import StressGauges
 from .grid import Grid, NodalFields
 from .parallel import p2g_range
@@ -659,6 +660,8 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
                 q[key] *= 2.0 * math.pi
     q.update(bulk_quantities(case, pt, q["strain_energy"] + q["interface_energy"],
                              2.0 * math.pi if model.axisymmetric else 1.0))
+    q.update(interpenetration_quantities(case, pt.x, pt.field, pt.volume, pt.volume0,
+                                         float(np.max(np.asarray(pt.spacing, float)))))
     if run.gauges is not None:
         q.update(run.gauges.quantities())
         res.diagnostics["gauges"] = run.gauges.history()

@@ -91,8 +91,10 @@ class PairTables(NamedTuple):
     out-of-plane thickness (one value or one per node), the per-node output columns
     and the per-node normals (LR: of the current step; radial SN: fixed) and LR
     separations, the reference nodal volumes of 000 Eq 20 (option interface_area =
-    reference; empty: the current volumes) and the DF edge-distance table d(s) of 004
-    Eq 15 (separation = DF; empty otherwise)."""
+    reference; empty: the current volumes), the DF edge-distance table d(s) of 004
+    Eq 15 (separation = DF; empty otherwise) and, with LR and three_material = explicit,
+    the LR normals and separations of every material pair at nodes seen by 3+ materials
+    (004 Sec 3.4; slot :func:`mpm.multimaterial_lr.pair_index`)."""
     thickness: np.ndarray
     law_kind: np.ndarray
     law_params: np.ndarray
@@ -107,6 +109,8 @@ class PairTables(NamedTuple):
     lr_separation: np.ndarray
     area_volume: np.ndarray
     df_curve: np.ndarray
+    lr_pair_normal: np.ndarray      # [N, M (M - 1) / 2, D]: LR per pair at 3+ nodes (three_material = explicit)
+    lr_pair_separation: np.ndarray  # [N, M (M - 1) / 2] (zero rows otherwise)
 
 
 class Blocks(NamedTuple):
@@ -190,13 +194,16 @@ def pair_tables(tables, node_out, thickness, N: int, M: int, D: int,
                           np.zeros(N_SETTINGS), np.zeros(M, np.int64), np.zeros(0, np.int64),
                           np.zeros((0, 2), np.int64), np.zeros(0, np.int64),
                           np.zeros((0, N_PARAMS)), np.zeros((0, NODE_OUT_COLUMNS)), np.zeros((0, M, D)),
-                          np.zeros((0, M)), area, np.zeros(0))
+                          np.zeros((0, M)), area, np.zeros(0), np.zeros((0, 0, D)), np.zeros((0, 0)))
     n_lr = N if tables.uses_lr else 0
     if node_out is None:
         node_out = np.zeros((0, NODE_OUT_COLUMNS))
+    n_pair = N if tables.uses_lr and tables.explicit_three_material else 0
+    n_pairs = M * (M - 1) // 2 if n_pair else 0
     return PairTables(thick, tables.law_kind, tables.law_params, tables.settings, tables.rigid,
                       tables.node_zone, tables.zone_pairs, tables.zone_kind, tables.zone_params,
-                      node_out, tables.node_normals(N, D), np.zeros((n_lr, M)), area, tables.df_curve)
+                      node_out, tables.node_normals(N, D), np.zeros((n_lr, M)), area, tables.df_curve,
+                      np.zeros((n_pair, n_pairs, D)), np.zeros((n_pair, n_pairs)))
 
 
 def blocks(buffers) -> Blocks:

@@ -108,7 +108,7 @@ def phase_lr(ctl, pt, grid, nd, pairs, nodes) -> None:
     if ctl.uses_lr and nodes.size:
         lr_kernel(pt.x, pt.field, pt.half_width, pt.F, ctl.finite_strain, grid.origin,
                   grid.cell, grid.nn, nd.mass, nodes, ctl.mass_tolerance, pairs.lr_normal,
-                  pairs.lr_separation)
+                  pairs.lr_separation, pairs.lr_pair_normal, pairs.lr_pair_separation)
 
 
 @njit(cache=True, inline="always")
@@ -121,7 +121,8 @@ def phase_contact(phase, ctl, grid, nd, pairs, nodes) -> None:
                             grid.origin, grid.nn, pairs.thickness, pairs.law_kind,
                             pairs.law_params, pairs.settings, pairs.rigid, pairs.node_zone,
                             pairs.zone_pairs, pairs.zone_kind, pairs.zone_params, pairs.lr_normal,
-                            pairs.lr_separation, pairs.df_curve, ctl.dt, nodes)
+                            pairs.lr_separation, pairs.lr_pair_normal, pairs.lr_pair_separation,
+                            pairs.df_curve, ctl.dt, nodes)
 
 
 @njit(cache=True, inline="always")
