@@ -99,9 +99,10 @@ def load_case(name: str, sets: dict) -> Case:
 
 
 def cmd_list(args) -> int:
+    width = max(len(n) for n in registry.names()) + 1
     for n in registry.names():
         case = registry.build(n)
-        print(f"{n:<18} [{','.join(supported_methods(case))}] {registry.summary(n)}")
+        print(f"{n:<{width}} [{','.join(supported_methods(case))}] {registry.summary(n)}")
     return 0
 
 

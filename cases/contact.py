@@ -151,12 +151,12 @@ def three_material_node(contact: str = "LR", three_material: str = "lump", plane
                         strain: float = 0.05, width: float = 40.0, height: float = 50.0,
                         mpm_cell: float = 5.0, mpm_ppc: int = 2, mu: float = 0.2, push: float = 5e-4,
                         rho: float = 1.0e-9, K: float = 2450.0, G: float = 940.0) -> Case:
-    """Three identical neo-Hookean blocks meeting at a node, compressed by ``strain`` (004 Sec
-    3.4, Fig 4A-B).
+    """Three identical neo-Hookean blocks meeting at one node, compressed (004 Fig 4).
 
-    A lower block ``width`` x ``height``/2 fixed at its bottom carries two upper blocks side
-    by side (``width``/2 each); the three meet at one point (a "3+" node: three materials),
-    on a grid node (``plane = grid``) or half a cell off it in both directions (``mid``).
+    004 Sec 3.4, Fig 4A-B. A lower block ``width`` x ``height``/2 fixed at its bottom
+    carries two upper blocks side by side (``width``/2 each); the three meet at one point
+    (a "3+" node: three materials), on a grid node (``plane = grid``) or half a cell off it
+    in both directions (``mid``).
     The top is pushed down by the bonded rigid piston of :func:`gap_contact` at ``push`` x
     the wave speed until the stack is shortened by ``strain`` (004: 5 %, half a cell with
     these sizes). All pairs touch with Coulomb friction ``mu``; ``contact`` selects the

@@ -105,14 +105,16 @@ UNITS = {"Dt": "MPa/mm", "Dn": "MPa/mm", "D": "MPa/mm", "Dn_compression": "MPa/m
          "x_interface": "mm", "shift_x": "mm", "shift_y": "mm", "zone_y": "mm", "fem_h": "mm",
          "mpm_cell": "mm", "amplitude": "mm", "size": "mm", "E": "MPa", "stress": "MPa", "load": "N",
          "P": "N", "f": "Hz", "angle": "deg", "rho_g_cm3": "g/cm^3", "strain": "-",
-         "b": "mm", "volume_fraction": "-", "outer": "mm"}
+         "b": "mm", "volume_fraction": "-", "outer": "mm", "gap": "mm", "K": "MPa", "G": "MPa",
+         "rho": "t/mm^3", "speed": "mm/s", "fill": "-", "mu": "-", "push": "-"}
 
 #: settings that run every method of a case in seconds (for trying things out)
 CHEAP = {"dls": {"fem_h": 0.5, "mpm_cell": 0.5}, "two_layer": {"fem_h": 1.0, "mpm_cell": 1.0},
          "core_sleeve": {"fem_h": 0.5, "mpm_cell": 0.5},
          "dcb": {"fem_h": 0.3, "mpm_cell": 0.3}, "wave": {"mpm_cell": 2.0},
          "particulate": {"mpm_cell": 0.1}, "bimaterial_square": {"h": 0.05, "fem_h": 0.05},
-         "cuboid": {"h": 0.1}}
+         "cuboid": {"h": 0.1}, "three_material_node": {"push": 0.002},
+         "ellipse_compaction": {"mpm_cell": 0.05, "strain": 0.5}}
 
 
 def describe_parameters(name: str) -> str:
