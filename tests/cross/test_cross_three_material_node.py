@@ -3,11 +3,11 @@ MPM of the same region (case ``three_material_node``, LR contact).
 
 Measured at the case's resolution (5 mm cells, 2 x 2 uGIMP; the piston at 0.2 % of the
 wave speed here, 0.05 % in the case: the figures agree to 1e-3 cell), meeting point on a
-node: lumping the 3+ nodes (004 Eq 50) moves the particles there by up to 0.068 cell from
+node: lumping the 3+ nodes (004 Eq 50) moves the particles there by up to 0.069 cell from
 the single-material run (the upper blocks rotate into the lower one, as 004 Fig 4B shows)
-and the mean axial stress ends 2.4 % low; pair by pair (004 Sec 3.4, Eq 49): 0.011 cell
-and -0.63 %. Mid-cell (figure script docs/contact/three_material_fig4.py): 0.106 / 0.015
-cell, -4.7 / -1.6 %. With grid normals (DF) the explicit treatment does not help (0.061
+and the mean axial stress ends 2.5 % low; pair by pair (004 Sec 3.4, Eq 49): 0.010 cell
+and -0.64 %. Mid-cell (figure script docs/contact/three_material_fig4.py): 0.100 / 0.030
+cell, -4.6 / -1.6 %. With grid normals (DF) the explicit treatment does not help (0.061
 cell): 004 finds the pairs in contact by LR.
 """
 import numpy as np
