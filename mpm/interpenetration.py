@@ -33,15 +33,20 @@ def interpenetration_quantities(case, x: np.ndarray, field: np.ndarray, volume: 
     members = np.flatnonzero(np.isin(field, [names.index(b) for b in bodies]))
     D = x.shape[1]
     r = 0.5 * spacing * np.abs(volume[members] / volume0[members]) ** (1.0 / D)
-    tree = cKDTree(x[members])
-    pairs = tree.query_pairs(float(r.max()), output_type="ndarray")
-    inside = np.zeros(members.size, bool)
+    count = int(inside_other_material(x[members], field[members], r).sum())
+    return {"interpenetration": count, "interpenetration_fraction": count / max(members.size, 1)}
+
+
+def inside_other_material(x: np.ndarray, field: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """Mask of the particles (positions ``x``, materials ``field``, current radii ``r``)
+    closer to a particle of another material than half the sum of their radii."""
+    inside = np.zeros(x.shape[0], bool)
+    if x.shape[0] < 2:
+        return inside
+    pairs = cKDTree(x).query_pairs(float(r.max()), output_type="ndarray")
     if pairs.size:
         p, q = pairs[:, 0], pairs[:, 1]
-        other = field[members[p]] != field[members[q]]
-        close = np.linalg.norm(x[members[p]] - x[members[q]], axis=1) < 0.5 * (r[p] + r[q])
-        hit = other & close
+        hit = (field[p] != field[q]) & (np.linalg.norm(x[p] - x[q], axis=1) < 0.5 * (r[p] + r[q]))
         inside[p[hit]] = True
         inside[q[hit]] = True
-    count = int(inside.sum())
-    return {"interpenetration": count, "interpenetration_fraction": count / max(members.size, 1)}
+    return inside
