@@ -468,7 +468,8 @@ class _Runner:
         m = self.m
         m.dt = m.shock_time_step(self.bundles[1].velgrad)
         self.bundles = (S.step_control(m),) + tuple(self.bundles[1:])
-        return self.steps + max(1, int(math.ceil((m.max_time - self.t) / m.dt - 1e-9)))
+        remaining = (m.max_time - self.t) / m.dt
+        return self.steps + (int(math.ceil(remaining - 1e-6)) if remaining > 1e-6 else 0)
 
     def _interval(self) -> int:
         """Steps per output interval (a quarter of T1; the gauges of 002 Sec 3.3 sample

@@ -89,8 +89,9 @@ class ShockHugoniot:
     def state(self, particle_speed: float) -> ShockState:
         """The shocked state at particle speed u_p >= 0 (mm/s)."""
         up = nonnegative("particle_speed", particle_speed)
-        if up == 0.0:
-            return ShockState(0.0, self.bulk_wave_speed, 1.0, 0.0, 0.0, 0.0)
+        if up == 0.0:   # the acoustic limit: bulk wave, or longitudinal with elastic shear
+            c = math.sqrt((self.K + 4.0 * self.G / 3.0) / self.rho)
+            return ShockState(0.0, c, 1.0, 0.0, 0.0, 0.0)
         eos, e = self._eos(), self.rho * 0.5 * up * up      # energy per unit reference volume
 
         def momentum(eta: float) -> float:
