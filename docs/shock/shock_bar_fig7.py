@@ -79,6 +79,12 @@ def main() -> None:
                 f"of the interface {d_near:.4g} MPa ({100 * d_near / peak:.3f} % of the peak "
                 f"{peak:.4g} MPa), anywhere {d_all:.4g} MPa ({100 * d_all / peak:.3f} %)")
     print(rows[-1])
+    behind = (x0_s[:, 0] > 25.0) & (x0_s[:, 0] < 45.0)      # shocked, clear of front and wall
+    sigma = runs[SPEEDS.index(1.84e6)][2]["longitudinal_stress"]
+    dev = s_s[behind] / sigma - 1.0
+    rows.append(f"# particle stress behind the front at 1840 m/s (x0 in 25..45 mm) / Hugoniot sigma - 1: "
+                f"mean {dev.mean():.4f}, standard deviation {dev.std():.4f}, largest {np.abs(dev).max():.4f}")
+    print(rows[-1])
 
     fig, axes = plt.subplots(2, 2, figsize=(12, 8))
     mid = np.isclose(x0_s[:, 1], np.unique(x0_s[:, 1])[len(np.unique(x0_s[:, 1])) // 2])
