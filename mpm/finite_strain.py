@@ -169,11 +169,7 @@ def finite_strain_update(velgrad, F, stress, strain, pvol, pvol0, x, x0, foff, f
         J = (Fn[0, 0] * (Fn[1, 1] * Fn[2, 2] - Fn[1, 2] * Fn[2, 1])
              - Fn[0, 1] * (Fn[1, 0] * Fn[2, 2] - Fn[1, 2] * Fn[2, 0])
              + Fn[0, 2] * (Fn[1, 0] * Fn[2, 1] - Fn[1, 1] * Fn[2, 0]))
-        J_old = 1.0
-        if kind[f] == MIE_GRUNEISEN:
-            J_old = (F[p, 0, 0] * (F[p, 1, 1] * F[p, 2, 2] - F[p, 1, 2] * F[p, 2, 1])
-                     - F[p, 0, 1] * (F[p, 1, 0] * F[p, 2, 2] - F[p, 1, 2] * F[p, 2, 0])
-                     + F[p, 0, 2] * (F[p, 1, 0] * F[p, 2, 1] - F[p, 1, 1] * F[p, 2, 0]))
+        J_old = MG.determinant(F[p]) if kind[f] == MIE_GRUNEISEN else 1.0
         for i in range(3):
             for j in range(3):
                 F[p, i, j] = Fn[i, j]

@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 #: columns of the per-field parameter table of mpm.finite_strain after K, G, volumetric code
@@ -105,31 +104,42 @@ def pressure_update(J, J_old, W, dt, prm, eos, p):
     return P
 
 
-def max_signal_speed(F: np.ndarray, eos: np.ndarray, velgrad: np.ndarray, v: np.ndarray,
-                     field: np.ndarray, kind: np.ndarray, params: np.ndarray,
-                     mie_gruneisen: int) -> float:
-    """Largest signal speed (mm/s) over the Mie-Grueneisen particles for the explicit time
-    step dt = cfl dx / speed: c_q + sqrt(c_q^2 + c_L^2) + |v| (the usual bound with a
-    viscous pressure, c_q = A1 C + A2 dx |D_kk|), with c_L^2 = C^2 + 4 G J^(-2/3) / (3 rho0)
-    the longitudinal speed of the current state (C from :func:`bulk_wave_speed`, the
-    neo-Hookean shear stiffened by compression) and D_kk the trace of the particle's last
-    velocity gradient. 0 when the run has no such particle."""
-    sel = np.flatnonzero(kind[field] == mie_gruneisen)
-    if sel.size == 0:
-        return 0.0
-    prm = params[field[sel]]
-    J = np.linalg.det(F[sel])
-    K, G, S1, gamma0, rho0 = (prm[:, k] for k in (0, 1, P_S1, P_GAMMA0, P_RHO0))
-    eta = 1.0 - J
-    comp = eta > 0.0
-    d = np.where(comp, 1.0 - S1 * np.maximum(eta, 0.0), 1.0)
-    num = np.maximum(eta, 0.0) * (1.0 - 0.5 * gamma0 * np.maximum(eta, 0.0))
-    dnum = 1.0 - gamma0 * np.maximum(eta, 0.0)
-    df = np.where(comp, K * (dnum * d + 2.0 * S1 * num) / d**3, K)
-    slope = df + np.where(comp, gamma0 * np.maximum(eos[sel, E_PRESSURE], 0.0), 0.0)
-    C2 = J * J * np.maximum(slope, 0.0) / rho0
-    cL = np.sqrt(C2 + 4.0 * G * J ** (-2.0 / 3.0) / (3.0 * rho0))
-    dkk = np.abs(np.trace(velgrad[sel], axis1=1, axis2=2)) if velgrad.shape[0] else 0.0 * J
-    cq = prm[:, P_A1] * np.sqrt(C2) + prm[:, P_A2] * prm[:, P_DX] * dkk
-    speed = cq + np.sqrt(cq * cq + cL * cL) + np.linalg.norm(v[sel], axis=1)
-    return float(np.max(speed))
+@njit(cache=True, inline="always")
+def determinant(A):
+    """det of a 3 x 3 matrix."""
+    return (A[0, 0] * (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1])
+            - A[0, 1] * (A[1, 0] * A[2, 2] - A[1, 2] * A[2, 0])
+            + A[0, 2] * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]))
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def max_signal_speed(F, eos, velgrad, v, field, kind, params, mie_gruneisen) -> float:
+    """Largest signal speed (mm/s) over the particles of kind ``mie_gruneisen`` for the
+    explicit time step dt = cfl dx / speed: c_q + sqrt(c_q^2 + c_L^2) + |v| (the usual
+    bound with a viscous pressure, c_q = A1 C + A2 dx |D_kk|), with c_L^2 = C^2 +
+    4 G J^(-2/3) / (3 rho0) the longitudinal speed of the current state (C from
+    :func:`bulk_wave_speed` at the last pressure, the neo-Hookean shear stiffened by
+    compression) and D_kk the trace of the particle's last velocity gradient
+    (``velgrad`` with zero rows: none). 0 when the run has no such particle."""
+    best = 0.0
+    for p in range(field.shape[0]):
+        f = field[p]
+        if kind[f] != mie_gruneisen:
+            continue
+        prm = params[f]
+        J = determinant(F[p])
+        rho0 = prm[P_RHO0]
+        C = bulk_wave_speed(J, max(eos[p, E_PRESSURE], 0.0), prm[0], prm[P_S1], prm[P_GAMMA0], rho0)
+        cL2 = C * C + 4.0 * prm[1] * J ** (-2.0 / 3.0) / (3.0 * rho0)
+        dkk = 0.0
+        if velgrad.shape[0]:
+            for i in range(velgrad.shape[1]):
+                dkk += velgrad[p, i, i]
+        cq = prm[P_A1] * C + prm[P_A2] * prm[P_DX] * abs(dkk)
+        vp = 0.0
+        for i in range(v.shape[1]):
+            vp += v[p, i] * v[p, i]
+        speed = cq + math.sqrt(cq * cq + cL2) + math.sqrt(vp)
+        if not speed <= best:          # NaN propagates (a particle past Eq 51's singularity)
+            best = speed
+    return best

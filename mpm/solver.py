@@ -222,7 +222,8 @@ class Model:
         current state (:func:`mpm.mie_gruneisen.max_signal_speed`, the linear fields' wave
         speed at least)."""
         pt = self.particles
-        speed = max_signal_speed(pt.F, pt.eos, np.zeros((0, 2, 2)) if velgrad is None else velgrad,
+        D = pt.x.shape[1]
+        speed = max_signal_speed(pt.F, pt.eos, np.zeros((0, D, D)) if velgrad is None else velgrad,
                                  pt.v, pt.field, self.material_kind, self.material_params,
                                  MIE_GRUNEISEN)
         return self.opts["cfl"] * float(np.min(self.grid.cell)) / speed

@@ -5,6 +5,8 @@ shock_front gauge against the Hugoniot of the same material, the run's energy ba
 the bar split by a perfect interface against the single body, bad input."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -79,6 +81,17 @@ def test_split_bar_with_a_perfect_interface_equals_the_single_body(cheap):
     near = np.abs(x0[:, 0] - 10.0) <= 2.0 * CHEAP["shock_bar"]["mpm_cell"]
     assert diff[near].max() < 1e-12
     assert diff.max() < 1e-12
+
+
+def test_time_step_follows_the_shocked_state(cheap):
+    """dt is recomputed between chunks from the current state: behind a 1840 m/s front the
+    signal speed (stiffened material, viscous term, particle speed) is ~2x the one at
+    rest, so the last dt is well below cfl dx / (c_L + v) of the material at rest."""
+    case, res = cheap
+    mat = case.materials["nickel"]
+    c_rest = math.sqrt((mat.K + 4.0 * mat.G / 3.0) / mat.rho)
+    dt_rest = 0.4 * CHEAP["shock_bar"]["mpm_cell"] / (c_rest + case.analytic["impact_speed"])
+    assert 0.3 * dt_rest < res.diagnostics["dt"] < 0.7 * dt_rest
 
 
 def test_bad_input_is_refused():
