@@ -160,6 +160,7 @@ class Model:
         # from the deformable bodies (a rigid body's material only sets its mass)
         deformable = [(C, m) for C, m, r in zip(self.C, mats, rigid) if not r]
         c_max = max(m.wave_speed(case.analysis) for _, m in deformable)
+        self.wave_speed = c_max
         c_min = min(math.sqrt(min(np.diag(C)[:D]) / m.rho) for C, m in deformable)
         dt_stable = float(np.min(self.grid.cell)) / c_max      # one cell per wave transit
         if opts["dt"] and opts["dt"] > dt_stable:
@@ -219,14 +220,14 @@ class Model:
 
     def shock_time_step(self, velgrad: np.ndarray | None = None) -> float:
         """cfl x cell / the largest signal speed of the Mie-Grueneisen particles in their
-        current state (:func:`mpm.mie_gruneisen.max_signal_speed`, the linear fields' wave
-        speed at least)."""
+        current state (:func:`mpm.mie_gruneisen.max_signal_speed`; at least the wave speed
+        of the run's materials at rest, which covers its other fields)."""
         pt = self.particles
         D = pt.x.shape[1]
         speed = max_signal_speed(pt.F, pt.eos, np.zeros((0, D, D)) if velgrad is None else velgrad,
                                  pt.v, pt.field, self.material_kind, self.material_params,
                                  MIE_GRUNEISEN)
-        return self.opts["cfl"] * float(np.min(self.grid.cell)) / speed
+        return self.opts["cfl"] * float(np.min(self.grid.cell)) / max(speed, self.wave_speed)
 
     def bundles(self, buffers) -> tuple:
         """The state bundles of :func:`mpm.step.run_steps` (views of this model's arrays;
