@@ -7,7 +7,7 @@ from typing import Callable
 
 from interfaces import Case, CaseError
 
-from . import contact, curved, library
+from . import contact, curved, library, shock
 
 CASES: dict[str, Callable[..., Case]] = {
     "dls": library.dls,
@@ -25,6 +25,7 @@ CASES: dict[str, Callable[..., Case]] = {
     "compression_20": contact.compression_20,
     "three_material_node": contact.three_material_node,
     "ellipse_compaction": contact.ellipse_compaction,
+    "shock_bar": shock.shock_bar,
 }
 
 
@@ -106,7 +107,8 @@ UNITS = {"Dt": "MPa/mm", "Dn": "MPa/mm", "D": "MPa/mm", "Dn_compression": "MPa/m
          "mpm_cell": "mm", "amplitude": "mm", "size": "mm", "E": "MPa", "stress": "MPa", "load": "N",
          "P": "N", "f": "Hz", "angle": "deg", "rho_g_cm3": "g/cm^3", "strain": "-",
          "b": "mm", "volume_fraction": "-", "outer": "mm", "gap": "mm", "K": "MPa", "G": "MPa",
-         "rho": "t/mm^3", "speed": "mm/s", "fill": "-", "mu": "-", "push": "-"}
+         "rho": "t/mm^3", "speed": "mm/s", "fill": "-", "mu": "-", "push": "-",
+         "impact_speed": "mm/s", "A1": "-", "A2": "-", "S1": "-", "gamma0": "-", "run": "-"}
 
 #: settings that run every method of a case in seconds (for trying things out)
 CHEAP = {"dls": {"fem_h": 0.5, "mpm_cell": 0.5}, "two_layer": {"fem_h": 1.0, "mpm_cell": 1.0},
@@ -114,7 +116,8 @@ CHEAP = {"dls": {"fem_h": 0.5, "mpm_cell": 0.5}, "two_layer": {"fem_h": 1.0, "mp
          "dcb": {"fem_h": 0.3, "mpm_cell": 0.3}, "wave": {"mpm_cell": 2.0},
          "particulate": {"mpm_cell": 0.1}, "bimaterial_square": {"h": 0.05, "fem_h": 0.05},
          "cuboid": {"h": 0.1}, "three_material_node": {"push": 0.002},
-         "ellipse_compaction": {"mpm_cell": 0.05, "strain": 0.5}}
+         "ellipse_compaction": {"mpm_cell": 0.05, "strain": 0.5},
+         "shock_bar": {"mpm_cell": 0.5, "length": 20.0, "height": 1.0}}
 
 
 def describe_parameters(name: str) -> str:

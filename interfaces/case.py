@@ -44,6 +44,7 @@ MEASUREMENTS = {
                      "threshold": "positive"},
     "axial_stress": {"bodies": "any", "component": "any", "sample_every": "positive"},
     "interpenetration": {"bodies": "any"},
+    "shock_front": {"sample_every": "positive", "wall": "any", "window": "any"},
 }
 
 

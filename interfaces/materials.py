@@ -330,6 +330,9 @@ class MieGruneisen(Material):
     ``pressure(J, e)`` gives p for the volume ratio J = V/V0 and the internal energy
     per unit reference volume e (MPa): p = rho0 C0^2 eta (1 - gamma0 eta / 2) /
     (1 - S1 eta)^2 + gamma0 e with eta = 1 - J (compression positive).
+    A1, A2: the linear and quadratic coefficients of the artificial viscosity of 004
+    Eq 52 (004 Fig 7: 0.4 and 4.0; 0 = none), used by the MPM stress update
+    (``mpm.mie_gruneisen``).
     """
 
     C0: float
@@ -337,11 +340,13 @@ class MieGruneisen(Material):
     gamma0: float
     G: float
     rho: float = DEFAULT_DENSITY
+    A1: float = 0.0
+    A2: float = 0.0
     kind: ClassVar[str] = "mie_gruneisen"
 
     def __post_init__(self):
         _positive(self, "C0", "G", "rho")
-        for name in ("S1", "gamma0"):
+        for name in ("S1", "gamma0", "A1", "A2"):
             object.__setattr__(self, name, check_number(name, getattr(self, name), low=0))
 
     @property

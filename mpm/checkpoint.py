@@ -29,7 +29,7 @@ from interfaces.errors import CaseError
 _NEUTRAL_OPTIONS = ("progress", "checkpoint", "checkpoint_every", "resume", "vtk_dir")
 
 #: particle arrays that evolve during a run
-_PARTICLE_ARRAYS = ("x", "v", "stress", "strain", "volume", "F", "foff")
+_PARTICLE_ARRAYS = ("x", "v", "stress", "strain", "volume", "F", "foff", "eos")
 
 
 def fingerprint(case, opts: dict) -> str:

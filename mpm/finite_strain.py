@@ -23,6 +23,11 @@ then, per particle,
   the history and the Result report the hyperelastic energy at any strain;
 * carries the offset from the particle centre to its loaded edge (tractions) with F.
 
+A ``MIE_GRUNEISEN`` field (004 Sec 4.3) keeps the neo-Hookean shear term and replaces
+U'(J) by minus the Mie-Grueneisen pressure of 004 Eq 51 with the artificial viscosity of
+Eq 52 (:mod:`mpm.mie_gruneisen`, its internal energy tracked per particle in ``eos``);
+its energy term is the particle's internal energy V_0 rho_0 U.
+
 Plane stress would need the out-of-plane stretch solved per particle for sigma_zz = 0
 (NairnMPM does it by Newton iteration); it is refused (:func:`material_tables`).
 """
@@ -36,9 +41,12 @@ from numba import njit
 from interfaces.errors import CaseError
 from interfaces.materials import VOLUMETRIC_TERMS, MieGruneisen, NeoHookean
 
+from . import mie_gruneisen as MG
+
 #: material kinds of the stress update per field
 LINEAR = 0
 NEO_HOOKEAN = 1
+MIE_GRUNEISEN = 2
 
 #: volumetric term codes (``interfaces.materials.VOLUMETRIC_TERMS`` order)
 U_EQ18 = 0                # K/2 ((J^2 - 1)/2 - ln J), 004 Eq 18
@@ -49,26 +57,26 @@ U_LN_J_SQUARED = 2        # K/2 (ln J)^2
 P_K = 0
 P_G = 1
 P_VOLUMETRIC = 2
-N_PARAMS = 3
+N_PARAMS = MG.N_PARAMS      # Mie-Grueneisen fields: S1, gamma0, rho0, A1, A2, cell size
 
 
 def unsupported_material(case) -> str | None:
     """The one-line reason MPM cannot run the materials of ``case``, or None."""
     for body in case.bodies:
         mat = case.materials[body.material]
-        if isinstance(mat, MieGruneisen):
-            return (f"body {body.name!r}: the Mie-Grueneisen stress update (004 Eq 51-52) is "
-                    "not implemented in mpm")
-        if isinstance(mat, NeoHookean) and case.analysis == "plane_stress":
-            return (f"body {body.name!r}: neo-Hookean materials need analysis plane_strain, "
+        if isinstance(mat, (NeoHookean, MieGruneisen)) and case.analysis == "plane_stress":
+            name = "neo-Hookean" if isinstance(mat, NeoHookean) else "Mie-Grueneisen"
+            return (f"body {body.name!r}: {name} materials need analysis plane_strain, "
                     "axisymmetric or 3d in mpm (plane stress would need the out-of-plane "
                     "stretch solved per particle)")
     return None
 
 
-def material_tables(case) -> tuple[np.ndarray, np.ndarray]:
-    """Per field (= body): the material kind (int64, ``LINEAR`` / ``NEO_HOOKEAN``) and the
-    parameters (float64 [M, N_PARAMS]: K, G, volumetric term code)."""
+def material_tables(case, cell: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Per field (= body): the material kind (int64, ``LINEAR`` / ``NEO_HOOKEAN`` /
+    ``MIE_GRUNEISEN``) and the parameters (float64 [M, N_PARAMS]: K, G, volumetric term
+    code; Mie-Grueneisen: K = rho0 C0^2, G, then S1, gamma0, rho0, A1, A2 and the grid
+    ``cell`` size of the artificial viscosity, 004 Eq 52)."""
     reason = unsupported_material(case)
     if reason is not None:
         raise CaseError(f"mpm: {reason}")
@@ -82,7 +90,19 @@ def material_tables(case) -> tuple[np.ndarray, np.ndarray]:
             params[f, P_K] = mat.K
             params[f, P_G] = mat.G
             params[f, P_VOLUMETRIC] = VOLUMETRIC_TERMS.index(mat.volumetric)
+        elif isinstance(mat, MieGruneisen):
+            kind[f] = MIE_GRUNEISEN
+            params[f, P_K] = mat.K
+            params[f, P_G] = mat.G
+            params[f, [MG.P_S1, MG.P_GAMMA0, MG.P_RHO0, MG.P_A1, MG.P_A2, MG.P_DX]] = \
+                (mat.S1, mat.gamma0, mat.rho, mat.A1, mat.A2, cell)
     return kind, params
+
+
+def eos_state(P: int, kind: np.ndarray) -> np.ndarray:
+    """The per-particle Mie-Grueneisen state (e, P) of :mod:`mpm.mie_gruneisen`, zero:
+    (P, 2) when some field is Mie-Grueneisen, else (0, 2)."""
+    return np.zeros((P if np.any(kind == MIE_GRUNEISEN) else 0, MG.N_STATE))
 
 
 def identity_gradients(P: int) -> np.ndarray:
@@ -109,14 +129,15 @@ def _right_cauchy_green(F, i, j):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def finite_strain_update(velgrad, F, stress, strain, pvol, pvol0, x, x0, foff, foff0, field,
-                         kind, params, dt, axisymmetric) -> float:
+                         kind, params, dt, axisymmetric, eos) -> float:
     """The update of the module docstring for every particle of a finite-strain field,
     and its loaded-edge offset carried by the deformation, foff = F foff_0 (the traction
     of a loaded particle acts at its deformed edge; with the undeformed offset the
     edge rows of a block compressed 20 % by a dead load strain 5 % more than the
     rest). Returns the strain energy sum V_0 W(F) (NaN when a particle inverted,
     J <= 0, so the run stops with the divergence message). Voigt rows: 2D [xx, yy, xy],
-    axisymmetric [rr, zz, rz, tt], 3D [xx, yy, zz, yz, xz, xy]."""
+    axisymmetric [rr, zz, rz, tt], 3D [xx, yy, zz, yz, xz, xy]. ``eos``: the (e, P)
+    state of the Mie-Grueneisen particles (:func:`eos_state`)."""
     D = velgrad.shape[1]
     U = 0.0
     A = np.empty((3, 3))
@@ -148,6 +169,7 @@ def finite_strain_update(velgrad, F, stress, strain, pvol, pvol0, x, x0, foff, f
         J = (Fn[0, 0] * (Fn[1, 1] * Fn[2, 2] - Fn[1, 2] * Fn[2, 1])
              - Fn[0, 1] * (Fn[1, 0] * Fn[2, 2] - Fn[1, 2] * Fn[2, 0])
              + Fn[0, 2] * (Fn[1, 0] * Fn[2, 1] - Fn[1, 1] * Fn[2, 0]))
+        J_old = MG.determinant(F[p]) if kind[f] == MIE_GRUNEISEN else 1.0
         for i in range(3):
             for j in range(3):
                 F[p, i, j] = Fn[i, j]
@@ -161,13 +183,18 @@ def finite_strain_update(velgrad, F, stress, strain, pvol, pvol0, x, x0, foff, f
             continue
         K = params[f, P_K]
         G = params[f, P_G]
-        Uv, dU = volumetric_terms(J, K, int(params[f, P_VOLUMETRIC]))
         for i in range(3):
             for j in range(3):
                 B[i, j] = Fn[i, 0] * Fn[j, 0] + Fn[i, 1] * Fn[j, 1] + Fn[i, 2] * Fn[j, 2]
         I1 = B[0, 0] + B[1, 1] + B[2, 2]
         Jm23 = J ** (-2.0 / 3.0)          # one power per particle
         Gs = G * Jm23 / J
+        if kind[f] == MIE_GRUNEISEN:
+            dU = -MG.pressure_update(J, J_old, 0.5 * G * (I1 * Jm23 - 3.0), dt, params[f],
+                                     eos, p)
+            Uv = eos[p, MG.E_WORK]
+        else:
+            Uv, dU = volumetric_terms(J, K, int(params[f, P_VOLUMETRIC]))
         mean = dU - Gs * I1 / 3.0
         # Green-Lagrange E = (F^T F - I) / 2, engineering shear 2 E_ij = C_ij
         if D == 3:

@@ -40,6 +40,7 @@ DEFAULTS: dict = {
     "checkpoint": None,      # file (.npz) the run's state is saved to (mpm/checkpoint.py)
     "checkpoint_every": 300.0,  # s of wall time between checkpoints (and one on Ctrl-C)
     "resume": False,         # continue from the checkpoint file when it exists
+    "initial_velocity": None,  # {body: [vx, vy(, vz)]} mm/s: bodies moving at t = 0 (an impact)
 }
 
 
@@ -98,7 +99,33 @@ def merge(case, overrides: dict) -> dict:
     if opts["max_time"] is not None and not math.isfinite(opts["max_time"]):
         raise CaseError("mpm option max_time must be finite")
     _checkpoint_options(opts)
+    opts["initial_velocity"] = _initial_velocity(opts["initial_velocity"], case)
     return opts
+
+
+def _initial_velocity(value, case) -> dict:
+    """initial_velocity: None or {body name: D finite velocity components (mm/s)}."""
+    if value is None:
+        return {}
+    names = [b.name for b in case.bodies]
+    D = case.dimension
+    if not isinstance(value, dict):
+        raise CaseError("mpm option initial_velocity must map body names to velocities "
+                        f"[{D} components] (mm/s), got {value!r}")
+    out = {}
+    for body, vel in value.items():
+        if body not in names:
+            raise CaseError(f"mpm option initial_velocity: unknown body {body!r}; bodies: "
+                            f"{', '.join(names)}")
+        try:
+            arr = np.asarray(vel, float) if np.ndim(vel) == 1 else None
+        except (TypeError, ValueError):
+            arr = None
+        if arr is None or arr.shape != (D,) or not np.all(np.isfinite(arr)):
+            raise CaseError(f"mpm option initial_velocity.{body} must be {D} finite velocity "
+                            f"components (mm/s), got {vel!r}")
+        out[body] = arr.tolist()
+    return out
 
 
 def _checkpoint_options(opts: dict) -> None:

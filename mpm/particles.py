@@ -36,6 +36,7 @@ class Particles:
     lp: np.ndarray      # (D,) particle half-width (uGIMP)
     F: np.ndarray | None = None  # (P, 3, 3) deformation gradient (mpm.finite_strain); identity
     foff0: np.ndarray | None = None  # (P, D) undeformed foff (finite-strain fields: foff = F foff0)
+    eos: np.ndarray | None = None    # (P, 2) Mie-Grueneisen (e, P) (mpm.mie_gruneisen), else (0, 2)
 
     def __post_init__(self):
         if self.F is None:

@@ -32,7 +32,9 @@ from . import axisymmetric as AX
 from . import checkpoint
 from . import state as S
 from .boundary import ghost_nodes, nodal_conditions, ramp_code, with_axis_conditions
-from .finite_strain import material_tables, unsupported_material
+from .finite_strain import MIE_GRUNEISEN, eos_state, material_tables, unsupported_material
+from .mie_gruneisen import max_signal_speed
+from .shock_front import ShockFrontGauge
 from .contact_gauge import AxialStressGauge, ContactGauge
 from .interpenetration import interpenetration_quantities
 from .gauges import StressGauges
@@ -73,6 +75,9 @@ MAX_PERIOD_RATIO = 50.0
 #: samples of the gauges over the pulse duration (the shortest load ramp)
 GAUGE_SAMPLES = 100
 
+#: steps per compiled chunk of a Mie-Grueneisen run (dt is recomputed between chunks)
+SHOCK_CHUNK = 10
+
 HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc", "interface",
                 "kinetic_grid")
 
@@ -108,6 +113,10 @@ class Model:
             self.particles.lp[:] = 0.0
         D = self.grid.D
         self.loads = apply_tractions(case, self.particles, D)
+        for name, vel in opts["initial_velocity"].items():        # an impact at t = 0
+            self.particles.v[self.particles.field == case.body_index(name)] = vel
+        self.initial_kinetic = 0.5 * float(np.einsum("p,pd,pd->", self.particles.mass,
+                                                     self.particles.v, self.particles.v))
         self.particles.foff0 = self.particles.foff.copy()   # finite strain: foff = F foff0
         self.M = len(case.bodies)
         self.nodal = NodalFields(self.grid.N, self.M, D)
@@ -121,7 +130,10 @@ class Model:
             C = [AX.stiffness_rzt(c) for c in C]   # particle order [rr, zz, rz, tt]
         self.C = np.ascontiguousarray(np.array(C, float))
         # the stress update of each field: small-strain linear or finite-strain (F)
-        self.material_kind, self.material_params = material_tables(case)
+        self.material_kind, self.material_params = material_tables(case, float(np.min(self.grid.cell)))
+        self.particles.eos = eos_state(self.particles.P, self.material_kind)
+        # Mie-Grueneisen fields (shock): dt follows the current state between chunks
+        self.mie_gruneisen = bool(np.any(self.material_kind == MIE_GRUNEISEN))
         self.tables = None
         self.node_out = None
         rigid = np.zeros(self.M, bool)
@@ -148,12 +160,18 @@ class Model:
         # from the deformable bodies (a rigid body's material only sets its mass)
         deformable = [(C, m) for C, m, r in zip(self.C, mats, rigid) if not r]
         c_max = max(m.wave_speed(case.analysis) for _, m in deformable)
+        self.wave_speed = c_max
         c_min = min(math.sqrt(min(np.diag(C)[:D]) / m.rho) for C, m in deformable)
         dt_stable = float(np.min(self.grid.cell)) / c_max      # one cell per wave transit
         if opts["dt"] and opts["dt"] > dt_stable:
             raise CaseError(f"mpm option dt = {opts['dt']:.3g} s is above the stable explicit limit "
                             f"cell / wave speed = {dt_stable:.3g} s; lower dt or leave it to cfl")
         self.dt = opts["dt"] or opts["cfl"] * dt_stable
+        if self.mie_gruneisen:
+            if opts["dt"]:
+                raise CaseError("mpm option dt: runs with Mie-Grueneisen materials take their time "
+                                "step from the current wave speeds (option cfl); leave dt unset")
+            self.dt = min(self.dt, self.shock_time_step())
         length = float(np.max(hi - lo))
         self.T1 = 4.0 * length / c_min
         self.ramp_time, self.ramp_code = _traction_ramp(self.loads, opts["ramp_time"], self.T1)
@@ -199,6 +217,17 @@ class Model:
             opts["update"] = "usl" if _grid_aligned(case, self.grid) else "musl"
         self.force_limiting = self.tables is None or \
             bool(self.tables.settings[S_FORCE_LIMIT] != 0.0)
+
+    def shock_time_step(self, velgrad: np.ndarray | None = None) -> float:
+        """cfl x cell / the largest signal speed of the Mie-Grueneisen particles in their
+        current state (:func:`mpm.mie_gruneisen.max_signal_speed`; at least the wave speed
+        of the run's materials at rest, which covers its other fields)."""
+        pt = self.particles
+        D = pt.x.shape[1]
+        speed = max_signal_speed(pt.F, pt.eos, np.zeros((0, D, D)) if velgrad is None else velgrad,
+                                 pt.v, pt.field, self.material_kind, self.material_params,
+                                 MIE_GRUNEISEN)
+        return self.opts["cfl"] * float(np.min(self.grid.cell)) / max(speed, self.wave_speed)
 
     def bundles(self, buffers) -> tuple:
         """The state bundles of :func:`mpm.step.run_steps` (views of this model's arrays;
@@ -393,7 +422,8 @@ class _Runner:
         next_frame = (self.steps // vtk_every + 1) * vtk_every if vtk_every else math.inf
         if vtk_every and not resumed:
             self._frame()
-        cum_work = float(sum(h[:, 3].sum() + h[:, 5].sum() for h in self.hist_chunks))
+        cum_work = m.initial_kinetic + float(sum(h[:, 3].sum() + h[:, 5].sum()
+                                                 for h in self.hist_chunks))
         shown = 0.0
         with _InterruptFlag(enabled=bool(m.opts["checkpoint"])) as interrupt:
             while self.steps < total_steps:
@@ -413,6 +443,8 @@ class _Runner:
                 bar.update(shown,
                            f"t={self.t:.3g}s KE/U={h[-1, 7] / max(U + ui, 1e-300):.2e}")
                 total_steps = self._adapt(total_steps)
+                if m.mie_gruneisen:
+                    total_steps = self._shock_time_step()
                 window = int(math.ceil(0.5 * m.period / m.dt))
                 if self.t > m.ramp_time and self._settled(window):
                     self.stopped_by = "kinetic_energy"
@@ -432,6 +464,15 @@ class _Runner:
         if vtk_every and self.frames and self.frames[-1][0] < self.t:
             self._frame()
 
+    def _shock_time_step(self) -> int:
+        """Mie-Grueneisen runs: dt from the current state (Model.shock_time_step) for the
+        next chunk; returns the total number of steps that reaches max_time with it."""
+        m = self.m
+        m.dt = m.shock_time_step(self.bundles[1].velgrad)
+        self.bundles = (S.step_control(m),) + tuple(self.bundles[1:])
+        remaining = (m.max_time - self.t) / m.dt
+        return self.steps + (int(math.ceil(remaining - 1e-6)) if remaining > 1e-6 else 0)
+
     def _interval(self) -> int:
         """Steps per output interval (a quarter of T1; the gauges of 002 Sec 3.3 sample
         the pulse, the shortest load ramp, ~GAUGE_SAMPLES times; the contact gauge of
@@ -443,12 +484,17 @@ class _Runner:
             self.gauges = body_gauges[0](m.case, m.particles.field, m.C)
             interval = min(interval, max(1, int(self.gauges.sample_every / m.dt)))
             self.gauges.sample(self.t, m.particles.stress)
+        elif ShockFrontGauge.measurement in m.case.measurements:
+            self.gauges = ShockFrontGauge(m.case, m.particles.x0, m.particles.spacing)
+            self.gauges.sample(self.t, m.particles.stress)
         elif m.case.measurements.get("transmitted_energy") is not None:
             self.gauges = StressGauges(m.case, m.particles.x0, m.particles.spacing)
             ramps = [bc.ramp_time for bc in m.case.boundary_conditions if bc.ramp_time]
             pulse = min(ramps + [m.ramp_time])
             interval = min(interval, max(1, int(pulse / (GAUGE_SAMPLES * m.dt))))
             self.gauges.sample(self.t, m.particles.stress)
+        if m.mie_gruneisen:
+            interval = min(interval, SHOCK_CHUNK)
         return interval
 
     def _check_energies(self, h: np.ndarray, cum_work: float) -> None:
@@ -640,13 +686,16 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
     case, pt, opts = model.case, model.particles, model.opts
     hist = run.history()
     last = hist[-1] if hist.size else np.zeros(len(HIST_COLUMNS))
-    work = float(hist[:, 3].sum() + hist[:, 5].sum())
+    work = float(hist[:, 3].sum() + hist[:, 5].sum()) + model.initial_kinetic
     diss = float(hist[:, 4].sum())
     strain_e, ke, u_int = float(last[2]), float(last[1]), float(last[6])
     q = {"strain_energy": strain_e, "interface_energy": u_int, "kinetic_energy": ke,
          "kinetic_energy_grid": float(last[7]),
          "external_work": work, "dissipated_energy": diss,
          "energy_balance_error": (work - strain_e - u_int - ke - diss) / max(abs(work), 1e-300)}
+    if model.initial_kinetic:
+        q["initial_kinetic_energy"] = model.initial_kinetic
+        q["external_work"] = work - model.initial_kinetic
     if model.moving_rigid:
         del q["energy_balance_error"]
         run.warnings.append(f"mpm: no energy balance: the work of the driven rigid bodies "

@@ -40,6 +40,7 @@ class ParticleState(NamedTuple):
     F: np.ndarray              # (P, 3, 3) deformation gradients (mpm.finite_strain)
     velgrad: np.ndarray        # (P, D, D) velocity gradients of finite-strain fields (else 0 rows)
     foff0: np.ndarray          # (P, D) undeformed loaded-edge offsets (foff = F foff0)
+    eos: np.ndarray            # (P, 2) Mie-Grueneisen (e, P) (mpm.mie_gruneisen; else 0 rows)
 
 
 class GridSpec(NamedTuple):
@@ -158,7 +159,7 @@ def particle_state(pt, axisymmetric: bool, musl: bool, finite_strain: bool = Fal
                          np.zeros((pt.P if musl else 0, pt.x.shape[1])), np.zeros(n),
                          np.zeros((n, pt.strain.shape[1])), np.zeros(n), pt.F,
                          np.zeros((pt.P if finite_strain else 0, pt.x.shape[1], pt.x.shape[1])),
-                         pt.foff0)
+                         pt.foff0, pt.eos if pt.eos is not None else np.zeros((0, 2)))
 
 
 def grid_spec(grid, kind: int, axis_nodes: np.ndarray) -> GridSpec:

@@ -150,7 +150,7 @@ def phase_finite_strain(ctl, pt) -> float:
         return 0.0
     return finite_strain_update(pt.velgrad, pt.F, pt.stress, pt.strain, pt.volume, pt.volume0,
                                 pt.x, pt.x0, pt.foff, pt.foff0, pt.field, ctl.material_kind,
-                                ctl.material_params, ctl.dt, ctl.axisymmetric)
+                                ctl.material_params, ctl.dt, ctl.axisymmetric, pt.eos)
 
 
 @njit(cache=True, inline="always")

@@ -11,7 +11,10 @@ internal energy (per unit mass, all of it: an explicit code integrating sigma : 
 tracks the same total). The material closes the system: sigma = p(J, U) + 2 Y / 3, with
 p of 004 Eq 51 (``interfaces.materials.MieGruneisen.pressure``, compression branch) and
 an elastic-perfectly-plastic deviatoric part at yield stress Y (uniaxial strain past the
-elastic limit; Y = 0 is the hydrodynamic Hugoniot). For Y = 0 the Mie-Grueneisen form
+elastic limit; Y = 0 is the hydrodynamic Hugoniot), or the elastic neo-Hookean shear term
+of 004 Eq 18 that 004 keeps beside Eq 51 (shear modulus G): in uniaxial strain,
+F = diag(J, 1, 1), its deviatoric stress adds (2/3) G J^(-5/3) (1 - J^2) to sigma, and its
+work, the isochoric energy, is part of U. For Y = G = 0 the Mie-Grueneisen form
 built on the linear U_s-u_p fit gives back that fit exactly, U_s = C0 + S1 u_p with
 C0 = sqrt(K / rho0); the root finder is checked against it.
 
@@ -49,14 +52,16 @@ class ShockState:
 
 @dataclass(frozen=True)
 class ShockHugoniot:
-    """Mie-Grueneisen solid of 004 Eq 51: bulk modulus K (MPa), rho0, S1, gamma0, and the
-    yield stress Y of its deviatoric part (0: hydrodynamic)."""
+    """Mie-Grueneisen solid of 004 Eq 51: bulk modulus K (MPa), rho0, S1, gamma0, and its
+    deviatoric part: an elastic-perfectly-plastic one of yield stress Y, or the elastic
+    neo-Hookean term of 004 Eq 18 of shear modulus G (MPa); both 0: hydrodynamic."""
 
     K: float
     rho: float
     S1: float
     gamma0: float
     Y: float = 0.0
+    G: float = 0.0
 
     def __post_init__(self):
         positive("K", self.K)
@@ -64,6 +69,14 @@ class ShockHugoniot:
         nonnegative("S1", self.S1)
         nonnegative("gamma0", self.gamma0)
         nonnegative("Y", self.Y)
+        nonnegative("G", self.G)
+        if self.Y > 0.0 and self.G > 0.0:
+            raise CaseError("ShockHugoniot: give either the yield stress Y (perfectly plastic "
+                            "deviatoric part) or the shear modulus G (elastic neo-Hookean), not both")
+
+    def deviatoric(self, J: float) -> float:
+        """The deviatoric part of the longitudinal compressive stress at volume ratio J."""
+        return 2.0 * self.Y / 3.0 + 2.0 * self.G / 3.0 * J ** (-5.0 / 3.0) * (1.0 - J * J)
 
     @property
     def bulk_wave_speed(self) -> float:
@@ -76,13 +89,14 @@ class ShockHugoniot:
     def state(self, particle_speed: float) -> ShockState:
         """The shocked state at particle speed u_p >= 0 (mm/s)."""
         up = nonnegative("particle_speed", particle_speed)
-        if up == 0.0:
-            return ShockState(0.0, self.bulk_wave_speed, 1.0, 0.0, 0.0, 0.0)
+        if up == 0.0:   # the acoustic limit: bulk wave, or longitudinal with elastic shear
+            c = math.sqrt((self.K + 4.0 * self.G / 3.0) / self.rho)
+            return ShockState(0.0, c, 1.0, 0.0, 0.0, 0.0)
         eos, e = self._eos(), self.rho * 0.5 * up * up      # energy per unit reference volume
 
         def momentum(eta: float) -> float:
             """sigma(J, U) - rho0 U_s u_p at compression eta = 1 - J: zero on the Hugoniot."""
-            return float(eos.pressure(1.0 - eta, e)) + 2.0 * self.Y / 3.0 - self.rho * up * up / eta
+            return float(eos.pressure(1.0 - eta, e)) + self.deviatoric(1.0 - eta) - self.rho * up * up / eta
 
         # eta in (0, 1 / S1): momentum() rises from -inf (eta -> 0: U_s -> inf) to +inf
         # at the Eq 51 singularity eta -> 1 / S1 (or to its value at J -> 0 when S1 <= 1)

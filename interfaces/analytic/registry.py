@@ -27,7 +27,7 @@ Parameters per model (units mm, N, MPa, s, tonne/mm^3, MPa/mm):
   Dn = inf; Dt, G_p accepted and unused (spherical symmetry); profile options
   eps0 = 1, n_points = 201.
 * ``shock_hugoniot`` (004 Sec 4.3, Eq 51, Rankine-Hugoniot): K, rho, S1, gamma0, Y = 0
-  (yield stress of the deviatoric part), impact_speed (mm/s), impact = "wall" (u_p = v)
+  (yield stress of the deviatoric part) or G = 0 (its elastic neo-Hookean shear, Eq 18), impact_speed (mm/s), impact = "wall" (u_p = v)
   | "symmetric" (u_p = v / 2); profile options n_points = 41, up_max = 1.5 u_p.
 * ``gap_closure`` (004 Fig 2): gap (mm), speed (mm/s) of the pushed face, height of the
   pushed body and its wave_speed (mm/s; default inf): contact_time = gap / speed +
@@ -438,7 +438,7 @@ def composite_cylinders_profiles(**params) -> dict[str, dict[str, np.ndarray]]:
 
 
 # ---- shock Hugoniot ---------------------------------------------------------------
-_SHOCK = {"K": ..., "rho": ..., "S1": ..., "gamma0": ..., "Y": 0.0, "impact_speed": ...,
+_SHOCK = {"K": ..., "rho": ..., "S1": ..., "gamma0": ..., "Y": 0.0, "G": 0.0, "impact_speed": ...,
           "impact": "wall", "n_points": 41, "up_max": None}
 
 
@@ -447,7 +447,7 @@ def _shock(params: dict[str, Any]) -> tuple[ShockHugoniot, float, dict[str, Any]
     if p["impact"] not in ("wall", "symmetric"):
         raise CaseError(f"analytic.impact must be 'wall' or 'symmetric', got {p['impact']!r}")
     v = check_number("impact_speed", p["impact_speed"], low=0.0, low_open=True)
-    model = ShockHugoniot(p["K"], p["rho"], p["S1"], p["gamma0"], p["Y"])
+    model = ShockHugoniot(p["K"], p["rho"], p["S1"], p["gamma0"], p["Y"], p["G"])
     return model, v if p["impact"] == "wall" else 0.5 * v, p
 
 

@@ -1,0 +1,64 @@
+"""MPM throughput of the Mie-Grueneisen shock run (004 Eq 51-52, case ``shock_bar``)
+against the same impact with the neo-Hookean material of 004 Eq 18 (same K, G), in
+particle-steps per second.
+
+The Mie-Grueneisen run adds the pressure and energy update per particle and recomputes
+dt between chunks of ``mpm.solver.SHOCK_CHUNK`` steps (a Python pass over the particles
+each time); the neo-Hookean run keeps the dt of the material at rest and the usual
+output intervals. The bar of 004 Fig 7 made ``--height`` mm high (default 10: 32k
+particles at 0.25 mm cells), one thread, whole runs timed alternately ``--windows``
+times (the machine's speed drifts: the ratio of the medians is the figure). Writes
+``bench_mpm_shock.json`` next to this script.
+
+Usage: ``python benchmarks/bench_mpm_shock.py [--height 10] [--windows 3]``
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+
+
+def _case(material: str, height: float):
+    import cases
+    from interfaces import NeoHookean
+    case = cases.build("shock_bar", height=height)
+    if material == "neo_hookean":
+        mg = case.materials["nickel"]
+        case.materials["nickel"] = NeoHookean(K=mg.K, G=mg.G, rho=mg.rho)
+    return case
+
+
+def main() -> None:
+    import numpy as np
+    import mpm
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--height", type=float, default=10.0)
+    ap.add_argument("--windows", type=int, default=3)
+    args = ap.parse_args()
+    names = ("neo_hookean", "mie_gruneisen")
+    rates: dict[str, list[float]] = {n: [] for n in names}
+    info = {}
+    for name in names:                      # compile / load the cached kernels
+        mpm.solve(_case(name, 1.0), progress=False, max_time=1e-8)
+    for _ in range(args.windows):
+        for name in names:
+            res = mpm.solve(_case(name, args.height), progress=False)
+            rates[name].append(res.timings["particle_steps_per_s"])
+            info[name] = (res.diagnostics["particles"], res.diagnostics["time_steps"])
+    out = {name: {"particles": int(info[name][0]), "steps": int(info[name][1]),
+                  "particle_steps_per_s": float(np.median(rates[name])),
+                  "best_window_particle_steps_per_s": float(np.max(rates[name]))}
+           for name in names}
+    out["ratio_mie_gruneisen_to_neo_hookean"] = (out["mie_gruneisen"]["particle_steps_per_s"]
+                                                 / out["neo_hookean"]["particle_steps_per_s"])
+    text = json.dumps(out, indent=2)
+    print(text)
+    (Path(__file__).with_suffix(".json")).write_text(text + "\n")
+
+
+if __name__ == "__main__":
+    main()
