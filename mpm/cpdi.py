@@ -34,14 +34,15 @@ F is carried for every particle of a CPDI run: a small-strain (linear) field upd
 F <- (I + dt L) F and V = det(F) V_0 here with its stress, a finite-strain field through
 :func:`mpm.finite_strain.finite_strain_update` as in the other shapes. The loaded-edge
 offset of a traction follows F (foff = F foff_0) and the traction is extrapolated with
-the corner function at the edge point (:func:`traction_kind`).
+the mean of the corner function at the two corners of the loaded edge
+(:func:`traction_weights_cpdi`).
 """
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
 
-from .kernels import _traction_weights, _traction_work, normalise_fields, zero_nodal
+from .kernels import normalise_fields, zero_nodal
 from .shape import B2, B2CPDI, CPDI, LINEAR, axis_weights3
 
 
@@ -55,13 +56,6 @@ def is_cpdi(kind: int) -> bool:
 def corner_kind(kind: int) -> int:
     """The grid function N_i evaluated at the domain corners: linear or B2."""
     return B2 if kind == B2CPDI else LINEAR
-
-
-@njit(cache=True, inline="always")
-def traction_kind(kind: int) -> int:
-    """Shape a traction's edge point is extrapolated with: the corner function (the edge
-    point is a point of the domain boundary, where CPDI takes N_i itself)."""
-    return corner_kind(kind)
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
@@ -138,18 +132,21 @@ def shape_cpdi(p, x, F, hw, origin, cell, nn, kind, idx, S, G) -> int:
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def p2g_cpdi(x, v, pmass, pvol, stress, field, x0, F, hw, fext, foff, load_scale, origin,
-             cell, nn, kind, multi, internal, mass, mom, force, volume, volgrad, disp, pos):
+def p2g_cpdi(x, v, pmass, pvol, stress, field, x0, F, hw, fext, foff, foff0, load_scale,
+             origin, cell, nn, kind, multi, internal, mass, mom, force, volume, volgrad, disp,
+             pos):
     """P2G of :func:`mpm.kernels.p2g_2d` (same nodal sums: 000 Eq 5-6, 10, 13, 32; 004
     Eq 29) with the CPDI weights and gradients; tractions at the loaded edge point with
-    the corner function (:func:`traction_kind`). Returns -1 or a lost particle."""
+    the corner function along the loaded edge (:func:`traction_weights_cpdi`). Returns -1
+    or a lost particle."""
     zero_nodal(multi, mass, mom, force, volume, volgrad, disp, pos)
     lost = scatter_cpdi(0, x.shape[0], x, v, pmass, pvol, stress, field, x0, F, hw, origin,
                         cell, nn, kind, multi, internal, mass, mom, force, volume, volgrad,
                         disp, pos)
     if lost >= 0:
         return lost
-    tractions_cpdi(x, field, fext, foff, load_scale, origin, cell, nn, kind, force)
+    tractions_cpdi(x, field, fext, foff, foff0, F, hw, load_scale, origin, cell, nn, kind,
+                   force)
     if multi:
         normalise_fields(mass, disp, pos)
     return -1
@@ -202,20 +199,59 @@ def scatter_cpdi(lo, hi, x, v, pmass, pvol, stress, field, x0, F, hw, origin, ce
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def tractions_cpdi(x, field, fext, foff, load_scale, origin, cell, nn, kind, force):
-    """The ramped traction forces at the loaded edge points x_p + foff_p (foff = F
-    foff_0), on the nodes of the corner function there (:func:`mpm.kernels.
-    _traction_weights` with that function: the nodes of the particle's own cell
-    stencil, renormalised)."""
-    wx, dwx, wy, dwy, qx, dqx, qy, dqy, tidx, tw = _traction_work()
-    tk = traction_kind(kind)
-    lp0 = np.zeros(2)
+def traction_weights_cpdi(p, x, F, hw, foff, foff0, origin, cell, nn, kind, tidx, tw) -> int:
+    """Nodes and weights carrying the traction of particle p (``tidx``, ``tw``: >= 36,
+    one entry per (point, node); returns their number).
+
+    The loaded edge of the domain runs between the two corners x_p + foff_p +- r, r the
+    half domain vector along the edge (r2 for an offset foff_0 along x, r1 along y).
+    CPDI's internal force integrates the linear interpolant of N_i along that edge, so
+    the consistent edge load is t |edge| (N_i(e-) + N_i(e+)) / 2: the mean of the corner
+    function at the edge's two corners (with the B-spline, N_i at the edge midpoint
+    left a uniformly stressed bar out of balance by 30 % of the stress; linear N_i are
+    linear along an edge inside a cell, where both agree). A particle without an
+    offset (side not on the grid axes) loads its own S_ip."""
+    base = corner_kind(kind)
+    c0x, c0y, r1x, r1y, r2x, r2y, g0x, g0y, g1x, g1y = domain(p, x, F, hw)
+    c = 0
+    if foff[p, 0] != 0.0 or foff[p, 1] != 0.0:
+        along_y = abs(foff0[p, 0]) >= abs(foff0[p, 1])
+        ex = r2x if along_y else r1x
+        ey = r2y if along_y else r1y
+        for e in range(2):
+            sgn = 1.0 if e == 0 else -1.0
+            i0, j0, n, w0, w1, w2, q0, q1, q2 = corner_weights(
+                x[p, 0] + foff[p, 0] + sgn * ex, x[p, 1] + foff[p, 1] + sgn * ey, origin,
+                cell, nn, base)
+            for b in range(n):
+                for a in range(n):
+                    tidx[c] = (j0 + b) * nn[0] + i0 + a
+                    tw[c] = 0.5 * _pick(a, w0, w1, w2) * _pick(b, q0, q1, q2)
+                    c += 1
+        return c
+    for k in range(4):
+        cx, cy, _, _ = corner(k, c0x, c0y, r1x, r1y, r2x, r2y, g0x, g0y, g1x, g1y)
+        i0, j0, n, w0, w1, w2, q0, q1, q2 = corner_weights(cx, cy, origin, cell, nn, base)
+        for b in range(n):
+            for a in range(n):
+                tidx[c] = (j0 + b) * nn[0] + i0 + a
+                tw[c] = 0.25 * _pick(a, w0, w1, w2) * _pick(b, q0, q1, q2)
+                c += 1
+    return c
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def tractions_cpdi(x, field, fext, foff, foff0, F, hw, load_scale, origin, cell, nn, kind,
+                   force):
+    """The ramped traction forces on the loaded domain edges (foff = F foff_0), on the
+    nodes of :func:`traction_weights_cpdi`."""
+    tidx = np.empty(36, np.int64)
+    tw = np.empty(36)
     for p in range(x.shape[0]):
         if fext[p, 0] != 0.0 or fext[p, 1] != 0.0:
             f = field[p]
-            c = _traction_weights(x[p, 0], x[p, 1], x[p, 0] + foff[p, 0], x[p, 1] + foff[p, 1],
-                                  origin, cell, nn, lp0, tk, tidx, tw, wx, dwx, wy, dwy,
-                                  qx, dqx, qy, dqy)
+            c = traction_weights_cpdi(p, x, F, hw, foff, foff0, origin, cell, nn, kind, tidx,
+                                      tw)
             for k in range(c):
                 force[tidx[k], f, 0] += tw[k] * fext[p, 0] * load_scale
                 force[tidx[k], f, 1] += tw[k] * fext[p, 1] * load_scale
@@ -369,20 +405,19 @@ def g2p_cpdi(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, foff0,
     U = 0.0
     work = 0.0
     lost = -1
-    wx, dwx, wy, dwy, qx, dqx, qy, dqy, tidx, tw = _traction_work()
-    tk = traction_kind(kind)
-    lp0 = np.zeros(2)
+    tidx = np.empty(36, np.int64)
+    tw = np.empty(36)
+    no_mass = np.zeros((1, 1))      # nodal velocities given: the masses are not read
     for p in range(x.shape[0]):
         f = field[p]
         ax, ay, vx, vy, L00, L01, L10, L11, out = _gather(p, x, F, hw, origin, cell, nn, kind,
-                                                          f, nvel, nacc, nvel, False)
+                                                          f, nvel, nacc, no_mass, False)
         if out:
             lost = p
             continue
         if fext[p, 0] != 0.0 or fext[p, 1] != 0.0:
-            c = _traction_weights(x[p, 0], x[p, 1], x[p, 0] + foff[p, 0],
-                                  x[p, 1] + foff[p, 1], origin, cell, nn, lp0, tk, tidx, tw,
-                                  wx, dwx, wy, dwy, qx, dqx, qy, dqy)
+            c = traction_weights_cpdi(p, x, F, hw, foff, foff0, origin, cell, nn, kind, tidx,
+                                      tw)
             for kk in range(c):
                 work += load_scale * dt * (fext[p, 0] * nvel[tidx[kk], f, 0]
                                            + fext[p, 1] * nvel[tidx[kk], f, 1]) * tw[kk]

@@ -316,7 +316,7 @@ def solve(case, **options) -> Result:
     """Run explicit multimaterial MPM on ``case`` and return a :class:`interfaces.Result`.
 
     Options (defaults in :data:`mpm.options.DEFAULTS`, then ``case.discretization['mpm']``,
-    then these keywords): ``cell`` (mm), ``ppc``, ``shape`` (ugimp/linear), ``cfl`` or
+    then these keywords): ``cell`` (mm), ``ppc``, ``shape`` (ugimp/linear/b2/cpdi/b2cpdi), ``cfl`` or
     ``dt``, ``damping`` (grid/kinetic/none) and ``alpha``, ``pic``, ``update``
     (auto/usl/musl/usf), ``ramp_time``, ``max_time``, ``tol``, ``vtk_dir``, ``progress``; the
     multimaterial options of :data:`mpm.multimaterial.DEFAULT_OPTIONS` (normal,

@@ -64,9 +64,9 @@ def phase_p2g(pt, grid, nd, blocks, scale, multi, internal) -> int:
     index of a particle outside the grid, or -1. CPDI shapes: mpm/cpdi.py."""
     if is_cpdi(grid.kind):
         return p2g_cpdi(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.F,
-                        pt.half_width, pt.fext, pt.foff, scale, grid.origin, grid.cell, grid.nn,
-                        grid.kind, multi, internal, nd.mass, nd.momentum, nd.force, nd.volume,
-                        nd.volume_gradient, nd.displacement, nd.position)
+                        pt.half_width, pt.fext, pt.foff, pt.foff0, scale, grid.origin,
+                        grid.cell, grid.nn, grid.kind, multi, internal, nd.mass, nd.momentum,
+                        nd.force, nd.volume, nd.volume_gradient, nd.displacement, nd.position)
     return p2g_blocks(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
                       pt.foff, scale, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
                       multi, internal, nd.mass, nd.momentum, nd.force, nd.volume,
