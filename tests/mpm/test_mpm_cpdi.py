@@ -182,14 +182,16 @@ def _bar(L=4.0, W=2.0, t=1.0, analysis="plane_stress") -> Case:
 @pytest.mark.parametrize("shape", SHAPES)
 def test_uniaxial_bar_matches_the_closed_form(shape):
     """Quarter of a plane-stress bar (two symmetry sides) under an end traction t:
-    u = (t x, -nu t y) / E, sigma_xx = t, U = t^2 V / 2E."""
+    u = (t x, -nu t y) / E, sigma_xx = t, U = t^2 V / 2E. Measured (h = 0.5): 7.9e-4 of
+    t L / E along (uGIMP the same: the damped run's stopping tolerance), 8e-5 / 3e-5
+    across, stress 1.8e-3 / 9e-4 of t, U +0.06 %."""
     L, W, t = 4.0, 2.0, 1.0
     res = mpm.solve(_bar(L, W, t), cell=0.5, ppc=2, shape=shape, progress=False)
     x, u = np.asarray(res.fields["position"]), np.asarray(res.fields["displacement"])
     exact = np.stack([x[:, 0], -NU * x[:, 1]], axis=1) * t / E
     err = np.abs(u - exact).max(axis=0) / (t * L / E)
-    assert err[0] < 3e-3, err
-    assert err[1] < 3e-3, err
+    assert err[0] < 2e-3, err
+    assert err[1] < 5e-4, err
     assert np.abs(np.asarray(res.fields["stress"])[:, 0] - t).max() < 5e-3 * t
     assert res.quantities["strain_energy"] == pytest.approx(0.5 * t * t / E * L * W, rel=3e-3)
 
@@ -209,8 +211,8 @@ def _compression(P: float) -> Case:
 def test_neo_hookean_compression_to_20_percent_follows_the_closed_form(shape):
     """Plane-strain neo-Hookean block (004 Eq 18) compressed to 20 % by the closed-form
     nominal stress: the stretch of the particle rows, F and the axial Cauchy stress
-    against the closed form, within 0.5 %; the particle domains follow F (the domain
-    area of every particle is J V0)."""
+    against the closed form (004 asks 0.5 %; measured 2.4e-5 / 1.1e-5 / 2.7e-5 / 1.6e-5
+    at most, uGIMP: stretch -1.4e-3, stress -6.9e-4)."""
     from interfaces.analytic.hyperelastic import (neo_hookean_compression,
                                                   nominal_stress_for_stretch)
     P = nominal_stress_for_stretch(NEO, 0.8, "plane_strain_free")
@@ -221,11 +223,30 @@ def test_neo_hookean_compression_to_20_percent_follows_the_closed_form(shape):
     lo, hi = x0[:, 1] <= x0[:, 1].min() + 1e-9, x0[:, 1] >= x0[:, 1].max() - 1e-9
     lam = (x[hi, 1].mean() - x[lo, 1].mean()) / (x0[hi, 1].mean() - x0[lo, 1].mean())
     ref = neo_hookean_compression(NEO, 0.8)
-    assert lam == pytest.approx(0.8, rel=5e-3)
-    assert F[:, 1, 1].mean() == pytest.approx(0.8, rel=5e-3)
-    assert F[:, 0, 0].mean() == pytest.approx(ref.lateral_stretch[0], rel=5e-3)
+    assert lam == pytest.approx(0.8, rel=2e-4)
+    assert F[:, 1, 1].mean() == pytest.approx(0.8, rel=2e-4)
+    assert F[:, 0, 0].mean() == pytest.approx(ref.lateral_stretch[0], rel=2e-4)
     assert np.asarray(res.fields["stress"])[:, 1].mean() == pytest.approx(ref.sigma_axial[0],
-                                                                          rel=5e-3)
+                                                                          rel=2e-4)
+
+
+def test_particle_stresses_at_20_percent_compression_stay_uniform_only_with_cpdi():
+    """The homogeneous 20 % compression has one stress everywhere. uGIMP's undeformed
+    particle domains overlap and leave gaps as the block shortens and widens, and its
+    particle stresses scatter over 70 % of the axial stress (measured 0.70); the CPDI
+    domains follow F and tile the deformed block: 0.10 (CPDI), 0.05 (B2-CPDI)."""
+    from interfaces.analytic.hyperelastic import (neo_hookean_compression,
+                                                  nominal_stress_for_stretch)
+    P = nominal_stress_for_stretch(NEO, 0.8, "plane_strain_free")
+    sigma = abs(neo_hookean_compression(NEO, 0.8).sigma_axial[0])
+    spread = {}
+    for shape in ("ugimp", "cpdi", "b2cpdi"):
+        res = mpm.solve(_compression(P), cell=0.5, ppc=2, shape=shape, progress=False)
+        s = np.asarray(res.fields["stress"])[:, 1]
+        spread[shape] = (s.max() - s.min()) / sigma
+    assert spread["ugimp"] > 0.5, spread
+    assert spread["cpdi"] < 0.15, spread
+    assert spread["b2cpdi"] < 0.08, spread
 
 
 def _column(split: bool, shape: str) -> Case:
