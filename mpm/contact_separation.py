@@ -14,9 +14,10 @@ approaching from the other side, has d_beta(s) = -d(-s). Then (004 Eq 15)
 d = a s + b turns this into the critical offset of Eq 16-17, delta_c = 2 b / a
 (004: 0.92 for GIMP, 0.96 for CPDI at two particles per cell).
 
-Lengths are in cells (h = 1). Shapes: the MPM shape codes of ``mpm.shape`` (linear,
-uGIMP, B2) and ``cpdi`` (undeformed CPDI on linear grid functions, 1D: the mean of
-N_i at the two particle corners) for the 004 comparison.
+Lengths are in cells (h = 1). Shapes: the MPM shape codes of ``mpm.shape``: linear,
+uGIMP, B2, and the undeformed CPDI shapes (mpm/cpdi.py; in 1D the mean of N_i at the
+two particle corners x_p +- l_p), ``cpdi`` on linear and ``b2cpdi`` on quadratic B-spline
+grid functions.
 """
 from __future__ import annotations
 
@@ -25,27 +26,33 @@ from numba import njit
 
 from interfaces.errors import CaseError
 
-from .shape import B2, LINEAR, SHAPE_CODES, UGIMP, gimp_1d
+from .shape import B2, B2CPDI, CPDI, LINEAR, SHAPE_CODES, UGIMP, gimp_1d
 
-CPDI = -1
-CURVE_SHAPES = {**SHAPE_CODES, "cpdi": CPDI}
+CURVE_SHAPES = SHAPE_CODES
 #: samples of the tabulated curve handed to the contact kernels
 TABLE_POINTS = 513
 
 
 @njit(cache=True)
-def _node_weight(r: float, kind: int, lp: float) -> float:
-    """S_ip of node i at distance r = x_p - x_i (cells) for one particle."""
+def _grid_weight(r: float, kind: int) -> float:
+    """Grid function N_i at distance r (cells): linear hat or quadratic B-spline."""
     a = abs(r)
-    if kind == LINEAR:
-        return max(0.0, 1.0 - a)
-    if kind == UGIMP:
-        return gimp_1d(r, 1.0, lp)[0]
     if kind == B2:
         if a < 0.5:
             return 0.75 - a * a
         return 0.5 * (1.5 - a) ** 2 if a < 1.5 else 0.0
-    return 0.5 * (max(0.0, 1.0 - abs(r - lp)) + max(0.0, 1.0 - abs(r + lp)))   # CPDI
+    return max(0.0, 1.0 - a)
+
+
+@njit(cache=True)
+def _node_weight(r: float, kind: int, lp: float) -> float:
+    """S_ip of node i at distance r = x_p - x_i (cells) for one particle."""
+    if kind == LINEAR or kind == B2:
+        return _grid_weight(r, kind)
+    if kind == UGIMP:
+        return gimp_1d(r, 1.0, lp)[0]
+    corner = B2 if kind == B2CPDI else LINEAR      # CPDI: mean over the two corners
+    return 0.5 * (_grid_weight(r - lp, corner) + _grid_weight(r + lp, corner))
 
 
 @njit(cache=True)
@@ -77,7 +84,7 @@ def edge_distance_curve(shape: str = "ugimp", ppc: int = 2, samples: int = 4001)
         raise CaseError(f"ppc must be an integer in [1, 8], got {ppc!r}")
     kind = CURVE_SHAPES[shape]
     lp = 0.5 / ppc if kind != LINEAR else 0.0
-    reach = 1.5 if kind == B2 else 1.0
+    reach = 1.5 if kind in (B2, B2CPDI) else 1.0
     edges = np.linspace(-reach - lp, reach + lp + 0.5, samples)
     s, w = _sweep(edges, kind, ppc)
     ok = w > 1e-14

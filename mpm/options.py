@@ -17,7 +17,7 @@ from .shape import SHAPE_CODES
 DEFAULTS: dict = {
     "cell": None,            # mm, scalar or per axis (required here or in case.discretization.mpm)
     "ppc": 2,                # particles per cell per axis
-    "shape": "ugimp",        # ugimp | linear | b2
+    "shape": "ugimp",        # ugimp | linear | b2 | cpdi | b2cpdi (mpm/cpdi.py)
     "cfl": 0.5,              # dt = cfl * min(cell) / max wave speed
     "dt": None,              # explicit time step (overrides cfl)
     "damping": "grid",       # grid | kinetic | none

@@ -1,6 +1,8 @@
 """MPM shape functions S_ip and gradients G_ip (004 Eq 2), compiled with numba.
 
-Three kinds, selected by an integer code so that one compiled kernel serves all:
+Three tensor-product kinds, selected by an integer code so that one compiled kernel
+serves all (the codes ``CPDI`` and ``B2CPDI`` name the domain-based shapes of
+mpm/cpdi.py, which have their own kernels):
 
 * ``LINEAR`` (0): classic MPM, S_ip = N_i(x_p) with bilinear (trilinear) N_i;
   2 nodes per axis.
@@ -29,9 +31,13 @@ from numba import njit
 LINEAR = 0
 UGIMP = 1
 B2 = 2
-SHAPE_CODES = {"linear": LINEAR, "ugimp": UGIMP, "gimp": UGIMP, "b2": B2}
-#: nodes per axis touched by one particle, by shape code
-NODES_PER_AXIS = (2, 3, 3)
+#: CPDI on linear / B2 grid functions (corner-based, non tensor-product: mpm/cpdi.py)
+CPDI = 3
+B2CPDI = 4
+SHAPE_CODES = {"linear": LINEAR, "ugimp": UGIMP, "gimp": UGIMP, "b2": B2, "cpdi": CPDI,
+               "b2cpdi": B2CPDI}
+#: nodes per axis touched by one particle (CPDI: by one domain corner), by shape code
+NODES_PER_AXIS = (2, 3, 3, 2, 3)
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")

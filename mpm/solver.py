@@ -45,6 +45,7 @@ from .options import merge
 from .particles import apply_tractions, generate
 from .progress import ProgressBar, compile_notice
 from .rigid import with_rigid_conditions
+from .cpdi import cpdi_refusal, reference_scatter_cpdi
 from .shape import SHAPE_CODES
 from .step import run_steps
 from .vtk import write_vtk_series
@@ -108,6 +109,9 @@ class Model:
         lo, hi = case.bounds()
         self.grid = Grid.around(lo, hi, opts["cell"], opts["padding"], opts["grid_anchor"])
         self.kind = SHAPE_CODES[opts["shape"]]
+        reason = cpdi_refusal(case, opts["shape"])
+        if reason is not None:
+            raise CaseError(f"mpm option shape: {reason}")
         self.particles = generate(case, self.grid, opts["ppc"])
         if self.kind == SHAPE_CODES["linear"]:
             self.particles.lp[:] = 0.0
@@ -197,7 +201,7 @@ class Model:
         # symmetry faces do (conditions on the side's normal component only), so that a
         # symmetry face holds every node of the particles on it; 2D uGIMP / linear runs
         # keep the side's extent, as their results always had
-        b2 = self.kind == SHAPE_CODES["b2"]
+        b2 = self.kind in (SHAPE_CODES["b2"], SHAPE_CODES["b2cpdi"])
         self.bcs = nodal_conditions(case, self.grid, self.ramp_time,
                                     band="all" if b2 else ("normal" if D == 3 else "none"))
         self.axis_nodes = np.zeros(0, np.int64)
@@ -207,9 +211,10 @@ class Model:
         if rigid.any():
             self.bcs = with_rigid_conditions(case, self.bcs, rigid, self.grid.N, self.grid.D,
                                              self.ramp_time)
-        if self.kind == SHAPE_CODES["b2"]:
+        if b2:
             if opts["update"] == "usf":
-                raise CaseError("mpm option update: 'usf' is not available with shape 'b2' (its "
+                raise CaseError(f"mpm option update: 'usf' is not available with shape "
+                                f"{opts['shape']!r} (its "
                                 "symmetry sides fold the internal force before the stress "
                                 "update); use usl, musl or auto")
             self.bcs.ghosts = ghost_nodes(case, self.grid, self.bcs)
@@ -255,10 +260,13 @@ class Model:
             return None
         g, pt = self.grid, self.particles
         nd = NodalFields(g.N, self.M, g.D)
-        lost = p2g_range(0, pt.P, pt.x0, np.zeros_like(pt.x0), pt.mass, pt.volume0, pt.stress,
-                         pt.field, pt.x0, g.origin, g.cell, g.nn, pt.lp, self.kind, True, False,
-                         nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
-                         nd.displacement, nd.position)
+        if self.kind in (SHAPE_CODES["cpdi"], SHAPE_CODES["b2cpdi"]):
+            lost = reference_scatter_cpdi(pt, g, self.kind, nd)
+        else:
+            lost = p2g_range(0, pt.P, pt.x0, np.zeros_like(pt.x0), pt.mass, pt.volume0,
+                             pt.stress, pt.field, pt.x0, g.origin, g.cell, g.nn, pt.lp, self.kind,
+                             True, False, nd.mass, nd.momentum, nd.force, nd.volume,
+                             nd.volume_gradient, nd.displacement, nd.position)
         if lost >= 0:
             raise SolverError(f"mpm: particle {lost} starts outside the background grid")
         return nd.volume
@@ -337,7 +345,7 @@ def solve(case, **options) -> Result:
     """Run explicit multimaterial MPM on ``case`` and return a :class:`interfaces.Result`.
 
     Options (defaults in :data:`mpm.options.DEFAULTS`, then ``case.discretization['mpm']``,
-    then these keywords): ``cell`` (mm), ``ppc``, ``shape`` (ugimp/linear), ``cfl`` or
+    then these keywords): ``cell`` (mm), ``ppc``, ``shape`` (ugimp/linear/b2/cpdi/b2cpdi), ``cfl`` or
     ``dt``, ``damping`` (grid/kinetic/none) and ``alpha``, ``pic``, ``update``
     (auto/usl/musl/usf), ``ramp_time``, ``max_time``, ``tol``, ``vtk_dir``, ``progress``; the
     multimaterial options of :data:`mpm.multimaterial.DEFAULT_OPTIONS` (normal,
@@ -719,7 +727,7 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
                   "stress": pt.stress.copy(), "strain": pt.strain.copy(),
                   "material": pt.field.copy(), "velocity": pt.v.copy(),
                   "volume": pt.volume0.copy()}
-    if np.any(model.material_kind):
+    if np.any(model.material_kind) or opts["shape"] in ("cpdi", "b2cpdi"):
         res.fields["deformation_gradient"] = pt.F.reshape(pt.P, 9).copy()
     spacing = float(np.max(np.asarray(model.grid.cell, float) / np.asarray(opts["ppc"], float)))
     res.profiles.update(line_profiles(case, pt.x0, pt.x - pt.x0, spacing))

@@ -52,6 +52,7 @@ from .multimaterial_kernels import (bonded_velocity_bc_kernel, correct_momentum_
 from .multimaterial_lr import lr_kernel
 from .kernels3d import p2g_internal_force_3d, p2g_momentum_3d, stress_from_grid_3d
 from .parallel import g2p_blocks, p2g_blocks
+from .cpdi import g2p_cpdi, internal_force_cpdi, is_cpdi, momentum_cpdi, p2g_cpdi, stress_cpdi
 
 _OVER_LIMIT = int(STATUS_OVER_LIMIT)
 
@@ -60,7 +61,12 @@ _OVER_LIMIT = int(STATUS_OVER_LIMIT)
 def phase_p2g(pt, grid, nd, blocks, scale, multi, internal) -> int:
     """Step 1: P2G over the particle blocks (race-free, mpm/parallel.py). ``internal``
     False (USF) leaves the internal force for after the stress update. Returns the
-    index of a particle outside the grid, or -1."""
+    index of a particle outside the grid, or -1. CPDI shapes: mpm/cpdi.py."""
+    if is_cpdi(grid.kind):
+        return p2g_cpdi(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.F,
+                        pt.half_width, pt.fext, pt.foff, pt.foff0, scale, grid.origin,
+                        grid.cell, grid.nn, grid.kind, multi, internal, nd.mass, nd.momentum,
+                        nd.force, nd.volume, nd.volume_gradient, nd.displacement, nd.position)
     return p2g_blocks(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.fext,
                       pt.foff, scale, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
                       multi, internal, nd.mass, nd.momentum, nd.force, nd.volume,
@@ -104,9 +110,11 @@ def phase_multimaterial_nodes(ctl, pt, grid, nd, pairs):
 def phase_lr(ctl, pt, grid, nd, pairs, nodes) -> None:
     """LR normals and separations of the current particle cloud on ``nodes`` (004 Eq
     19-25): the particle radii R_p of Eq 25 from the undeformed half widths
-    ``pt.half_width``, deformed by F in finite-strain runs (linear fields keep F = I)."""
+    ``pt.half_width``, deformed by F in finite-strain runs (linear fields keep F = I)
+    and in CPDI runs (every particle carries F)."""
     if ctl.uses_lr and nodes.size:
-        lr_kernel(pt.x, pt.field, pt.half_width, pt.F, ctl.finite_strain, grid.origin,
+        lr_kernel(pt.x, pt.field, pt.half_width, pt.F, ctl.finite_strain or is_cpdi(grid.kind),
+                  grid.origin,
                   grid.cell, grid.nn, nd.mass, nodes, ctl.mass_tolerance, pairs.lr_normal,
                   pairs.lr_separation, pairs.lr_pair_normal, pairs.lr_pair_separation)
 
@@ -132,6 +140,11 @@ def phase_stress(ctl, pt, grid, nd, x) -> float:
     start-of-step positions); returns the strain energy of the linear fields (the
     finite-strain fields get their velocity gradients stored for
     :func:`phase_finite_strain`)."""
+    if is_cpdi(grid.kind):
+        return stress_cpdi(x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field, pt.foff,
+                           pt.foff0, pt.F, pt.half_width, ctl.C, grid.origin, grid.cell, grid.nn,
+                           grid.kind, ctl.dt, nd.mass, nd.momentum, pt.velgrad,
+                           ctl.material_kind)
     if x.shape[1] == 3:
         return stress_from_grid_3d(x, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
                                    ctl.C, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
@@ -156,7 +169,10 @@ def phase_finite_strain(ctl, pt) -> float:
 @njit(cache=True, inline="always")
 def phase_internal_force(pt, grid, nd) -> None:
     """USF: the internal force -V sigma . grad S from the updated stress."""
-    if pt.x.shape[1] == 3:
+    if is_cpdi(grid.kind):
+        internal_force_cpdi(pt.x, pt.volume, pt.stress, pt.field, pt.F, pt.half_width,
+                            grid.origin, grid.cell, grid.nn, grid.kind, nd.force)
+    elif pt.x.shape[1] == 3:
         p2g_internal_force_3d(pt.x, pt.volume, pt.stress, pt.field, grid.origin, grid.cell,
                               grid.nn, pt.lp, grid.kind, nd.force)
     else:
@@ -260,11 +276,18 @@ def phase_g2p(ctl, pt, grid, nd, blocks, scale):
     if hoop:
         pt.r_before[:] = pt.x[:, 0]
         pt.strain_before[:] = pt.strain
-    ke, U, work, lost, ke_grid = g2p_blocks(
-        blocks.mass.shape[0], pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain,
-        pt.field, pt.fext, pt.foff, scale, ctl.C, grid.origin, grid.cell, grid.nn, pt.lp,
-        grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity, nd.acceleration, pt.velgrad,
-        ctl.material_kind)
+    if is_cpdi(grid.kind):
+        ke, U, work, lost, ke_grid = g2p_cpdi(
+            pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field, pt.fext,
+            pt.foff, pt.foff0, pt.F, pt.half_width, scale, ctl.C, grid.origin, grid.cell,
+            grid.nn, grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity, nd.acceleration,
+            pt.velgrad, ctl.material_kind)
+    else:
+        ke, U, work, lost, ke_grid = g2p_blocks(
+            blocks.mass.shape[0], pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
+            pt.strain, pt.field, pt.fext, pt.foff, scale, ctl.C, grid.origin, grid.cell,
+            grid.nn, pt.lp, grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity,
+            nd.acceleration, pt.velgrad, ctl.material_kind)
     if hoop and lost < 0:
         hoop_from_motion(pt.x, pt.r_before, pt.d_hoop)
         U = hoop_stress_update(pt.d_hoop, pt.strain_before, pt.stress, pt.strain, pt.volume,
@@ -285,7 +308,10 @@ def phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes) -> float:
     with the same shape-function gradients (finite-strain fields: F from them, hoop
     stretch r+ / r0); returns the strain energy."""
     x = pt.x_before
-    if x.shape[1] == 3:
+    if is_cpdi(grid.kind):
+        momentum_cpdi(x, pt.v, pt.mass, pt.field, pt.F, pt.half_width, grid.origin, grid.cell,
+                      grid.nn, grid.kind, nd.mass, nd.momentum)
+    elif x.shape[1] == 3:
         p2g_momentum_3d(x, pt.v, pt.mass, pt.field, grid.origin, grid.cell, grid.nn, pt.lp,
                         grid.kind, nd.mass, nd.momentum)
     else:
