@@ -209,10 +209,11 @@ class Model:
             else self.case.thickness
         return (S.step_control(self), S.particle_state(self.particles, self.axisymmetric,
                                                    self.opts["update"] == "musl",
-                                                   bool(np.any(self.material_kind))),
+                                                   bool(np.any(self.material_kind)),
+                                                   self.opts["xpic"]),
                 S.grid_spec(g, self.kind, self.axis_nodes),
                 S.nodal_state(self.nodal, self.bcs.ghosts is not None and
-                              self.bcs.ghosts.node.size > 0),
+                              self.bcs.ghosts.node.size > 0, self.opts["xpic"]),
                 S.conditions(self.bcs),
                 S.pair_tables(self.tables, self.node_out, thickness, g.N, self.M, g.D,
                               self.reference_area_volumes()),
