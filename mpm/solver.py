@@ -310,10 +310,11 @@ def solve(case, **options) -> Result:
 
     Options (defaults in :data:`mpm.options.DEFAULTS`, then ``case.discretization['mpm']``,
     then these keywords): ``cell`` (mm), ``ppc``, ``shape`` (ugimp/linear), ``cfl`` or
-    ``dt``, ``damping`` (grid/kinetic/none) and ``alpha``, ``pic``, ``update``
-    (auto/usl/musl/usf), ``ramp_time``, ``max_time``, ``tol``, ``vtk_dir``, ``progress``; the
-    multimaterial options of :data:`mpm.multimaterial.DEFAULT_OPTIONS` (normal,
-    separation, area_correction, h_perp, force_limiting, edge_cutoff, default_law, ...).
+    ``dt``, ``damping`` (grid/kinetic/none) and ``alpha``, ``pic``, ``xpic`` and
+    ``xpic_correction`` (XPIC(m), mpm/xpic.py), ``update`` (auto/usl/musl/usf),
+    ``ramp_time``, ``max_time``, ``tol``, ``vtk_dir``, ``progress``; the multimaterial
+    options of :data:`mpm.multimaterial.DEFAULT_OPTIONS` (normal, separation,
+    area_correction, h_perp, force_limiting, edge_cutoff, default_law, ...).
     Quantities: stiffness (002 Eq 43), stiffness_energy (Eq 45), strain_energy,
     interface_energy, kinetic_energy, external_work, dissipated_energy.
     """

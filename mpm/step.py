@@ -21,6 +21,9 @@ mpm/LAYOUT.md:
 8. :func:`phase_g2p`: FLIP/PIC particle update, x += dt sum S v+, velocity gradient,
    and (USL) the stress update (axisymmetric: with the hoop strain; the fields with a
    deformation gradient: :func:`phase_finite_strain`, mpm/finite_strain.py);
+   XPIC(m) runs (mpm/xpic.py): the XPIC grid velocity before it (with the v_alpha and
+   Delta v_alpha kept around step 3), the XPIC(m) blend of velocities and positions
+   after it (004 Eq 35-44);
 9. MUSL only: :func:`phase_musl` (stress from the updated particle momenta
    re-extrapolated with the start-of-step shape functions);
 10. kinetic damping and the history row.

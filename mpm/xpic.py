@@ -96,58 +96,114 @@ def start_fields(mass, mom, work) -> None:
                 work[V0, n, f, d] = mom[n, f, d] * inv
 
 
-@njit(cache=True)
-def smooth_pass(x, pmass, field, origin, cell, nn, lp, kind, mass, work, src, dst, two):
-    """dst <- S+_alpha S src for slot ``src`` (and slot ``src + 1`` into ``dst + 1``
-    when ``two``), each field on its own particles (004 Eq 43-44)."""
-    D = x.shape[1]
-    M = mass.shape[1]
-    ns = 27 if D == 3 else 9
-    idx = np.empty(27, np.int64)
-    wt = np.empty(27)
-    i0 = np.zeros(3, np.int64)
-    w3 = np.zeros((3, 3))
-    work[dst] = 0.0
-    if two:
-        work[dst + 1] = 0.0
-    wf = work.reshape(work.shape[0], -1)
-    sv = np.empty(3)
-    sd = np.empty(3)
+@njit(cache=True, inline="always", fastmath=True)
+def _weights_2d(xp, yp, origin, cell, nn, lp, kind, wx, wy):
+    """(i0, j0) of the 3 x 3 stencil and its 1D weights into ``wx``, ``wy``; i0 = -1
+    when the stencil leaves the grid."""
+    i0, wx[0], wx[1], wx[2], _, _, _ = axis_weights3(xp, origin[0], cell[0], lp[0], kind)
+    j0, wy[0], wy[1], wy[2], _, _, _ = axis_weights3(yp, origin[1], cell[1], lp[1], kind)
+    if i0 < 0 or j0 < 0 or i0 + 3 > nn[0] or j0 + 3 > nn[1]:
+        return -1, -1
+    return i0, j0
+
+
+@njit(cache=True, fastmath=True)
+def stencils_2d(x, origin, cell, nn, lp, kind, base, wts) -> None:
+    """The 3 x 3 stencils of the particles, computed once per step for every pass: the
+    flat index of the first node (-1 off the grid) and the weights S_ip, row by row."""
+    wx = np.empty(3)
+    wy = np.empty(3)
+    nx = nn[0]
     for p in range(x.shape[0]):
-        if not _stencil(x[p], origin, cell, nn, lp, kind, i0, w3, idx, wt):
+        i0, j0 = _weights_2d(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, wy)
+        if i0 < 0:
+            base[p] = -1
+            continue
+        base[p] = j0 * nx + i0
+        for jb in range(3):
+            for ia in range(3):
+                wts[p, 3 * jb + ia] = wx[ia] * wy[jb]
+
+
+@njit(cache=True, fastmath=True)
+def _scatter_pass_2d(base, wts, pmass, field, nx, work, src, dst) -> None:
+    """The particle loop of :func:`smooth_pass` in 2D: dst += sum_p m_p S_ip (S src)_p
+    per field, unnormalised."""
+    for p in range(base.shape[0]):
+        b = base[p]
+        if b < 0:
             continue
         f = field[p]
-        for d in range(D):
-            sv[d] = 0.0
-            sd[d] = 0.0
-        for c in range(ns):
-            k = (idx[c] * M + f) * D
-            for d in range(D):
-                sv[d] += wt[c] * wf[src, k + d]
-                if two:
-                    sd[d] += wt[c] * wf[src + 1, k + d]
-        mp = pmass[p]
-        for c in range(ns):
-            k = (idx[c] * M + f) * D
-            s = mp * wt[c]
-            for d in range(D):
-                wf[dst, k + d] += s * sv[d]
-                if two:
-                    wf[dst + 1, k + d] += s * sd[d]
-    N = mass.shape[0]
+        a0 = 0.0
+        a1 = 0.0
+        for jb in range(3):
+            row = b + jb * nx
+            for ia in range(3):
+                w = wts[p, 3 * jb + ia]
+                a0 += w * work[src, row + ia, f, 0]
+                a1 += w * work[src, row + ia, f, 1]
+        a0 *= pmass[p]
+        a1 *= pmass[p]
+        for jb in range(3):
+            row = b + jb * nx
+            for ia in range(3):
+                w = wts[p, 3 * jb + ia]
+                work[dst, row + ia, f, 0] += w * a0
+                work[dst, row + ia, f, 1] += w * a1
+
+
+@njit(cache=True)
+def smooth_pass(x, pmass, field, origin, cell, nn, lp, kind, mass, work, src, dst, base,
+                wts):
+    """dst <- S+_alpha S src (slots of ``work``), each field on its own particles (004
+    Eq 43-44); 2D with the step's stencils ``base``, ``wts`` (:func:`stencils_2d`)."""
+    work[dst] = 0.0
+    if x.shape[1] == 2:
+        _scatter_pass_2d(base, wts, pmass, field, nn[0], work, src, dst)
+    else:
+        _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst)
+    N, M = mass.shape
+    D = x.shape[1]
     for n in range(N):
         for f in range(M):
             m = mass[n, f]
             inv = 1.0 / m if m > 0.0 else 0.0
             for d in range(D):
                 work[dst, n, f, d] *= inv
-                if two:
-                    work[dst + 1, n, f, d] *= inv
+
+
+@njit(cache=True)
+def _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst) -> None:
+    """The particle loop of :func:`smooth_pass` for any D (3^D stencil)."""
+    D = x.shape[1]
+    M = work.shape[2]
+    ns = 27 if D == 3 else 9
+    idx = np.empty(27, np.int64)
+    wt = np.empty(27)
+    i0 = np.zeros(3, np.int64)
+    w3 = np.zeros((3, 3))
+    wf = work.reshape(work.shape[0], -1)
+    sv = np.empty(3)
+    for p in range(x.shape[0]):
+        if not _stencil(x[p], origin, cell, nn, lp, kind, i0, w3, idx, wt):
+            continue
+        f = field[p]
+        for d in range(D):
+            sv[d] = 0.0
+        for c in range(ns):
+            k = (idx[c] * M + f) * D
+            for d in range(D):
+                sv[d] += wt[c] * wf[src, k + d]
+        mp = pmass[p]
+        for c in range(ns):
+            k = (idx[c] * M + f) * D
+            for d in range(D):
+                wf[dst, k + d] += mp * wt[c] * sv[d]
 
 
 @njit(cache=True)
 def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind, mass,
-                       nvel, nacc, dt, work) -> None:
+                       nacc, dt, work, base, wts) -> None:
     """v~ = m (v_alpha - v*_alpha) + a_alpha dt into slot VS (004 Eq 41-44); ``work[V0]``
     and ``work[DV]`` hold v_alpha and Delta v_alpha (:func:`start_fields`). Without
     ``corrected`` the Delta v terms are left out (the uncorrected variant)."""
@@ -162,13 +218,16 @@ def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind
         # (m - 1)/m Delta v*_{k-1} of Eq 42 before Delta v*_{k-1} is replaced
         if corrected:
             work[VS] += (sign * (m - 1.0) / m) * work[DK]
-        smooth_pass(x, pmass, field, origin, cell, nn, lp, kind, mass, work, VK, VN,
-                    corrected and k < m)
+        smooth_pass(x, pmass, field, origin, cell, nn, lp, kind, mass, work, VK, VN, base,
+                    wts)
+        if corrected and k < m:
+            smooth_pass(x, pmass, field, origin, cell, nn, lp, kind, mass, work, DK, DN,
+                        base, wts)
         work[VK] = ((m + 1.0 - k) / k) * work[VN]
         if corrected and k < m:
             work[DK] = ((m - k) / k) * work[DN]
         work[VS] += sign * work[VK]
-    N, M, D = nvel.shape
+    N, M, D = nacc.shape
     for n in range(N):
         for f in range(M):
             for d in range(D):
@@ -186,9 +245,42 @@ def keep_conditioned(work, nvel, bc_node, bc_field, bc_comp, g_node, g_field) ->
             work[VS, g_node[c], g_field[c], d] = nvel[g_node[c], g_field[c], d]
 
 
+@njit(cache=True, fastmath=True)
+def gather_particles(x, field, origin, cell, nn, lp, kind, work, nvel, out, base, wts) -> None:
+    """out[0, p] = S v~, out[1, p] = S (v~ - v+) at the start-of-step positions (2D: the
+    step's stencils ``base``, ``wts``)."""
+    if x.shape[1] != 2:
+        _gather_particles_any(x, field, origin, cell, nn, lp, kind, work, nvel, out)
+        return
+    nx = nn[0]
+    for p in range(x.shape[0]):
+        b = base[p]
+        a0 = 0.0
+        a1 = 0.0
+        b0 = 0.0
+        b1 = 0.0
+        if b >= 0:
+            f = field[p]
+            for jb in range(3):
+                row = b + jb * nx
+                for ia in range(3):
+                    w = wts[p, 3 * jb + ia]
+                    n = row + ia
+                    v0 = work[VS, n, f, 0]
+                    v1 = work[VS, n, f, 1]
+                    a0 += w * v0
+                    a1 += w * v1
+                    b0 += w * (v0 - nvel[n, f, 0])
+                    b1 += w * (v1 - nvel[n, f, 1])
+        out[0, p, 0] = a0
+        out[0, p, 1] = a1
+        out[1, p, 0] = b0
+        out[1, p, 1] = b1
+
+
 @njit(cache=True)
-def gather_particles(x, field, origin, cell, nn, lp, kind, work, nvel, out) -> None:
-    """out[0, p] = S v~, out[1, p] = S (v~ - v+) at the start-of-step positions."""
+def _gather_particles_any(x, field, origin, cell, nn, lp, kind, work, nvel, out) -> None:
+    """:func:`gather_particles` for any D (3^D stencil)."""
     D = x.shape[1]
     M = nvel.shape[1]
     ns = 27 if D == 3 else 9
@@ -254,17 +346,25 @@ def phase_xpic_grid(ctl, pt, grid, nd, bc) -> None:
     if ctl.xpic < 1:
         return
     nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
+    P = pt.x.shape[0]
+    n2 = P if pt.x.shape[1] == 2 else 0
+    base = np.empty(n2, np.int64)
+    wts = np.empty((n2, 9))
+    if n2:
+        stencils_2d(pt.x, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind, base, wts)
     if ctl.xpic == 1:
         nd.xpic[VS] = nd.velocity
     else:
         mass = nd.real_mass if nd.real_mass.shape[0] else nd.mass
-        xpic_grid_velocity(ctl.xpic, ctl.xpic_correction, pt.x, pt.mass, pt.field,
-                           grid.origin, grid.cell, grid.nn, pt.lp, grid.kind, mass,
-                           nd.velocity, nd.acceleration, ctl.dt, nd.xpic)
+        # Delta v is zero without a second field: its series is skipped
+        corrected = ctl.xpic_correction and nd.mass.shape[1] > 1
+        xpic_grid_velocity(ctl.xpic, corrected, pt.x, pt.mass, pt.field, grid.origin,
+                           grid.cell, grid.nn, pt.lp, grid.kind, mass, nd.acceleration, ctl.dt,
+                           nd.xpic, base, wts)
         keep_conditioned(nd.xpic, nd.velocity, bc.node, bc.field, bc.comp, bc.ghost_node,
                          bc.ghost_field)
     gather_particles(pt.x, pt.field, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
-                     nd.xpic, nd.velocity, pt.xpic)
+                     nd.xpic, nd.velocity, pt.xpic, base, wts)
 
 
 @njit(cache=True, inline="always")
