@@ -96,38 +96,32 @@ def start_fields(mass, mom, work) -> None:
                 work[V0, n, f, d] = mom[n, f, d] * inv
 
 
-@njit(cache=True, inline="always", fastmath=True)
-def _weights_2d(xp, yp, origin, cell, nn, lp, kind, wx, wy):
-    """(i0, j0) of the 3 x 3 stencil and its 1D weights into ``wx``, ``wy``; i0 = -1
-    when the stencil leaves the grid."""
-    i0, wx[0], wx[1], wx[2], _, _, _ = axis_weights3(xp, origin[0], cell[0], lp[0], kind)
-    j0, wy[0], wy[1], wy[2], _, _, _ = axis_weights3(yp, origin[1], cell[1], lp[1], kind)
-    if i0 < 0 or j0 < 0 or i0 + 3 > nn[0] or j0 + 3 > nn[1]:
-        return -1, -1
-    return i0, j0
-
-
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def stencils_2d(x, origin, cell, nn, lp, kind, base, wts) -> None:
     """The 3 x 3 stencils of the particles, computed once per step for every pass: the
     flat index of the first node (-1 off the grid) and the weights S_ip, row by row."""
-    wx = np.empty(3)
-    wy = np.empty(3)
     nx = nn[0]
     for p in range(x.shape[0]):
-        i0, j0 = _weights_2d(x[p, 0], x[p, 1], origin, cell, nn, lp, kind, wx, wy)
-        if i0 < 0:
+        i0, w0, w1, w2, _, _, _ = axis_weights3(x[p, 0], origin[0], cell[0], lp[0], kind)
+        j0, q0, q1, q2, _, _, _ = axis_weights3(x[p, 1], origin[1], cell[1], lp[1], kind)
+        if i0 < 0 or j0 < 0 or i0 + 3 > nx or j0 + 3 > nn[1]:
             base[p] = -1
             continue
         base[p] = j0 * nx + i0
-        for jb in range(3):
-            for ia in range(3):
-                wts[p, 3 * jb + ia] = wx[ia] * wy[jb]
+        wts[p, 0] = w0 * q0
+        wts[p, 1] = w1 * q0
+        wts[p, 2] = w2 * q0
+        wts[p, 3] = w0 * q1
+        wts[p, 4] = w1 * q1
+        wts[p, 5] = w2 * q1
+        wts[p, 6] = w0 * q2
+        wts[p, 7] = w1 * q2
+        wts[p, 8] = w2 * q2
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def _scatter_pass_2d(base, wts, pmass, field, nx, work, src, dst) -> None:
-    """The particle loop of :func:`smooth_pass` in 2D: dst += sum_p m_p S_ip (S src)_p
+    """The particle loop of :func:`scatter_pass` in 2D: dst += sum_p m_p S_ip (S src)_p
     per field, unnormalised."""
     for p in range(base.shape[0]):
         b = base[p]
@@ -153,28 +147,21 @@ def _scatter_pass_2d(base, wts, pmass, field, nx, work, src, dst) -> None:
 
 
 @njit(cache=True)
-def smooth_pass(x, pmass, field, origin, cell, nn, lp, kind, mass, work, src, dst, base,
-                wts):
-    """dst <- S+_alpha S src (slots of ``work``), each field on its own particles (004
-    Eq 43-44); 2D with the step's stencils ``base``, ``wts`` (:func:`stencils_2d`)."""
+def scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst, base,
+                 wts) -> None:
+    """dst <- sum_p m_p S_ip (S src)_p (slots of ``work``), each field on its own
+    particles: m_i S+_alpha S src before the division by the nodal mass (004 Eq 43-44);
+    2D with the step's stencils ``base``, ``wts`` (:func:`stencils_2d`)."""
     work[dst] = 0.0
     if x.shape[1] == 2:
         _scatter_pass_2d(base, wts, pmass, field, nn[0], work, src, dst)
     else:
         _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst)
-    N, M = mass.shape
-    D = x.shape[1]
-    for n in range(N):
-        for f in range(M):
-            m = mass[n, f]
-            inv = 1.0 / m if m > 0.0 else 0.0
-            for d in range(D):
-                work[dst, n, f, d] *= inv
 
 
 @njit(cache=True)
 def _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst) -> None:
-    """The particle loop of :func:`smooth_pass` for any D (3^D stencil)."""
+    """The particle loop of :func:`scatter_pass` for any D (3^D stencil)."""
     D = x.shape[1]
     M = work.shape[2]
     ns = 27 if D == 3 else 9
@@ -210,24 +197,30 @@ def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind
     work[VK] = work[V0]
     if corrected:
         work[DK] = work[DV]
-    else:
-        work[DK] = 0.0
     work[VS] = 0.0
-    for k in range(2, m + 1):
-        sign = 1.0 if k % 2 == 0 else -1.0
-        # (m - 1)/m Delta v*_{k-1} of Eq 42 before Delta v*_{k-1} is replaced
-        if corrected:
-            work[VS] += (sign * (m - 1.0) / m) * work[DK]
-        smooth_pass(x, pmass, field, origin, cell, nn, lp, kind, mass, work, VK, VN, base,
-                    wts)
-        if corrected and k < m:
-            smooth_pass(x, pmass, field, origin, cell, nn, lp, kind, mass, work, DK, DN,
-                        base, wts)
-        work[VK] = ((m + 1.0 - k) / k) * work[VN]
-        if corrected and k < m:
-            work[DK] = ((m - k) / k) * work[DN]
-        work[VS] += sign * work[VK]
     N, M, D = nacc.shape
+    for k in range(2, m + 1):
+        scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, VK, VN, base, wts)
+        next_dk = corrected and k < m
+        if next_dk:
+            scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, DK, DN, base, wts)
+        sign = 1.0 if k % 2 == 0 else -1.0
+        cv = (m + 1.0 - k) / k            # Eq 43
+        cd = (m - k) / k                  # Eq 44
+        cdv = sign * (m - 1.0) / m        # Eq 42, on Delta v*_{k-1}
+        for n in range(N):
+            for f in range(M):
+                mi = mass[n, f]
+                inv = 1.0 / mi if mi > 0.0 else 0.0
+                for d in range(D):
+                    vk = cv * inv * work[VN, n, f, d]
+                    work[VK, n, f, d] = vk
+                    acc = sign * vk
+                    if corrected:
+                        acc += cdv * work[DK, n, f, d]
+                    if next_dk:
+                        work[DK, n, f, d] = cd * inv * work[DN, n, f, d]
+                    work[VS, n, f, d] += acc
     for n in range(N):
         for f in range(M):
             for d in range(D):
@@ -245,7 +238,7 @@ def keep_conditioned(work, nvel, bc_node, bc_field, bc_comp, g_node, g_field) ->
             work[VS, g_node[c], g_field[c], d] = nvel[g_node[c], g_field[c], d]
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def gather_particles(x, field, origin, cell, nn, lp, kind, work, nvel, out, base, wts) -> None:
     """out[0, p] = S v~, out[1, p] = S (v~ - v+) at the start-of-step positions (2D: the
     step's stencils ``base``, ``wts``)."""

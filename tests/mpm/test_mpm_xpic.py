@@ -88,9 +88,9 @@ def test_xpic1_is_pic_to_round_off(split):
 
 
 @pytest.mark.parametrize("split", [False, True])
-@pytest.mark.parametrize("m", [2, 5])
-def test_xpic_conserves_momentum_and_mass(split, m):
-    model, run = _model(_bar(split), {"xpic": m}, noise=0.3)
+@pytest.mark.parametrize("m, update", [(2, "usl"), (5, "usl"), (5, "musl"), (5, "usf")])
+def test_xpic_conserves_momentum_and_mass(split, m, update):
+    model, run = _model(_bar(split), {"xpic": m, "update": update}, noise=0.3)
     pt = model.particles
     p0 = (pt.mass[:, None] * pt.v).sum(axis=0)
     run._advance(40)
