@@ -1,7 +1,8 @@
 """XPIC(m) and multimaterial XPIC(m) particle updates (mpm/xpic.py; 004 Sec 3.3, Eq 35-48).
 
 * XPIC(1) is PIC (004 Eq 38): the same run with ``xpic = 1`` and with ``pic = 1``
-  agrees to round-off, one material or two bonded ones;
+  agrees to round-off, one material or two bonded ones, uGIMP, linear and B2 shapes;
+* velocity conditions (and B2 ghost nodes) keep their v+ in the XPIC grid velocity;
 * the projection conserves the total momentum (the S+ S passes preserve the
   mass-weighted sums, and the Delta v terms of the fields cancel);
 * a free bar vibrating in its first axial mode (closed form: v = v0 cos(pi x / L)
@@ -72,12 +73,13 @@ def test_xpic_options_are_checked_naming_the_field():
     assert merge(case, {"cell": 1.0, "xpic": None})["xpic"] == 0
 
 
-@pytest.mark.parametrize("split", [False, True])
-def test_xpic1_is_pic_to_round_off(split):
+@pytest.mark.parametrize("split, shape", [(False, "ugimp"), (True, "ugimp"), (False, "linear"),
+                                          (True, "b2")])
+def test_xpic1_is_pic_to_round_off(split, shape):
     """004 Eq 38: XPIC(1) maps the updated grid velocity of each field to its particles."""
     steps = 60
-    a, _ = _advance(_bar(split), {"xpic": 1}, steps, noise=0.05)
-    b, _ = _advance(_bar(split), {"pic": 1.0}, steps, noise=0.05)
+    a, _ = _advance(_bar(split), {"xpic": 1, "shape": shape}, steps, noise=0.05)
+    b, _ = _advance(_bar(split), {"pic": 1.0, "shape": shape}, steps, noise=0.05)
     for key in ("x", "v", "stress"):
         pa, pb = getattr(a.particles, key), getattr(b.particles, key)
         assert np.abs(pa - pb).max() <= 1e-12 * np.abs(pb).max(), key
@@ -98,6 +100,30 @@ def test_xpic_conserves_momentum_and_mass(split, m, update):
     scale = (pt.mass * np.abs(pt.v).max()).sum()
     assert np.abs(p1 - p0).max() < 1e-12 * scale
     assert model.nodal.mass.sum() == pytest.approx(pt.mass.sum(), rel=1e-12)
+
+
+def test_xpic_keeps_the_velocity_conditions():
+    """A bar fixed at x = 0 (B2: a symmetry side with ghost nodes): the XPIC(5) grid
+    velocity keeps the conditioned components (and the reflected ghosts), so the
+    particles at the fixed end stay."""
+    from interfaces import BoundaryCondition
+    for shape in ("ugimp", "b2"):
+        case = _bar()
+        case.boundary_conditions.append(BoundaryCondition("fixed", "a", "xmin", ("x",), (0.0,)))
+        model, run = _model(case, {"xpic": 5, "shape": shape})
+        run._advance(30)
+        bc, nd = model.bcs, run.bundles[3]
+        vt = nd.xpic[6]          # slot VS: the XPIC grid velocity v~ of the last step
+        assert np.array_equal(vt[bc.node, bc.field, bc.comp],
+                              nd.velocity[bc.node, bc.field, bc.comp])
+        if bc.ghosts is not None and bc.ghosts.node.size:   # B2: reflected, as G2P sees them
+            g = bc.ghosts
+            assert np.array_equal(vt[g.node, g.field], nd.velocity[g.node, g.field])
+        else:
+            assert np.all(vt[bc.node, bc.field, bc.comp] == 0.0)
+        pt = model.particles
+        first = pt.x0[:, 0] < 0.3
+        assert np.abs(pt.x[first, 0] - pt.x0[first, 0]).max() < 0.02
 
 
 def _mode_and_noise(model) -> tuple[float, float]:
