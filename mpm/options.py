@@ -22,7 +22,11 @@ DEFAULTS: dict = {
     "dt": None,              # explicit time step (overrides cfl)
     "damping": "grid",       # grid | kinetic | none
     "alpha": None,           # grid damping (1/s); None = adaptive 2 omega (critical for the Rayleigh-quotient mode of the current deformation)
-    "pic": 0.0,              # PIC fraction blended into the FLIP update (0 = pure FLIP)
+    "pic": None,             # fraction of the PIC (or XPIC(m)) velocity blended into FLIP
+                             # (0 = pure FLIP); default 0, or 1 (pure XPIC) with xpic
+    "xpic": 0,               # XPIC(m) order m >= 1 (004 Eq 35-44, mpm/xpic.py); 0 or None = off
+    "xpic_correction": True,  # multimaterial XPIC with the Delta v term of the initial
+                              # contact correction (004 Eq 37); false = "uncorrected"
     "update": "auto",        # auto | usl | musl | usf (auto: usl when every body edge lies on grid lines, else musl)
     "ramp_time": None,       # s; default: the traction ramp_time, else one estimated period T1
     "max_time": None,        # s; default ramp + 40 T1
@@ -74,7 +78,7 @@ def merge(case, overrides: dict) -> dict:
     opts["damping"] = damping
     if opts["alpha"] is not None:
         opts["alpha"] = check_number("mpm option alpha", opts["alpha"], low=0)
-    opts["pic"] = check_number("mpm option pic", opts["pic"], low=0, high=1)
+    _xpic_options(opts)
     upd = str(opts["update"]).lower()
     if upd not in ("auto", "usl", "usf", "musl"):
         raise CaseError(f"mpm option update must be 'auto', 'usl', 'musl' or 'usf', got {opts['update']!r}")
@@ -126,6 +130,30 @@ def _initial_velocity(value, case) -> dict:
                             f"components (mm/s), got {vel!r}")
         out[body] = arr.tolist()
     return out
+
+
+#: largest XPIC order accepted (004 uses m = 5; each order costs one S+ S pass)
+MAX_XPIC = 50
+
+
+def _xpic_options(opts: dict) -> None:
+    """xpic: None or an integer 0 <= m <= MAX_XPIC; xpic_correction: a boolean; pic: a
+    fraction in [0, 1], default 1 with xpic (pure XPIC(m)) and 0 without (pure FLIP)."""
+    m = opts["xpic"]
+    if m is None or m is False:
+        m = 0
+    if isinstance(m, bool) or not isinstance(m, (int, np.integer, float)) \
+            or float(m) != int(m) or not 0 <= int(m) <= MAX_XPIC:
+        raise CaseError(f"mpm option xpic must be an integer order m in 1..{MAX_XPIC} "
+                        f"(0 or None: off), got {opts['xpic']!r}")
+    opts["xpic"] = int(m)
+    if not isinstance(opts["xpic_correction"], (bool, np.bool_)):
+        raise CaseError(f"mpm option xpic_correction must be true or false, got "
+                        f"{opts['xpic_correction']!r}")
+    opts["xpic_correction"] = bool(opts["xpic_correction"])
+    if opts["pic"] is None:
+        opts["pic"] = 1.0 if opts["xpic"] else 0.0
+    opts["pic"] = check_number("mpm option pic", opts["pic"], low=0, high=1)
 
 
 def _checkpoint_options(opts: dict) -> None:

@@ -243,10 +243,11 @@ class Model:
             else self.case.thickness
         return (S.step_control(self), S.particle_state(self.particles, self.axisymmetric,
                                                    self.opts["update"] == "musl",
-                                                   bool(np.any(self.material_kind))),
+                                                   bool(np.any(self.material_kind)),
+                                                   self.opts["xpic"]),
                 S.grid_spec(g, self.kind, self.axis_nodes),
                 S.nodal_state(self.nodal, self.bcs.ghosts is not None and
-                              self.bcs.ghosts.node.size > 0),
+                              self.bcs.ghosts.node.size > 0, self.opts["xpic"]),
                 S.conditions(self.bcs),
                 S.pair_tables(self.tables, self.node_out, thickness, g.N, self.M, g.D,
                               self.reference_area_volumes()),
@@ -346,10 +347,11 @@ def solve(case, **options) -> Result:
 
     Options (defaults in :data:`mpm.options.DEFAULTS`, then ``case.discretization['mpm']``,
     then these keywords): ``cell`` (mm), ``ppc``, ``shape`` (ugimp/linear/b2/cpdi/b2cpdi), ``cfl`` or
-    ``dt``, ``damping`` (grid/kinetic/none) and ``alpha``, ``pic``, ``update``
-    (auto/usl/musl/usf), ``ramp_time``, ``max_time``, ``tol``, ``vtk_dir``, ``progress``; the
-    multimaterial options of :data:`mpm.multimaterial.DEFAULT_OPTIONS` (normal,
-    separation, area_correction, h_perp, force_limiting, edge_cutoff, default_law, ...).
+    ``dt``, ``damping`` (grid/kinetic/none) and ``alpha``, ``pic``, ``xpic`` and
+    ``xpic_correction`` (XPIC(m), mpm/xpic.py), ``update`` (auto/usl/musl/usf),
+    ``ramp_time``, ``max_time``, ``tol``, ``vtk_dir``, ``progress``; the multimaterial
+    options of :data:`mpm.multimaterial.DEFAULT_OPTIONS` (normal, separation,
+    area_correction, h_perp, force_limiting, edge_cutoff, default_law, ...).
     Quantities: stiffness (002 Eq 43), stiffness_energy (Eq 45), strain_energy,
     interface_energy, kinetic_energy, external_work, dissipated_energy.
     """

@@ -41,6 +41,7 @@ class ParticleState(NamedTuple):
     velgrad: np.ndarray        # (P, D, D) velocity gradients of finite-strain fields (else 0 rows)
     foff0: np.ndarray          # (P, D) undeformed loaded-edge offsets (foff = F foff0)
     eos: np.ndarray            # (P, 2) Mie-Grueneisen (e, P) (mpm.mie_gruneisen; else 0 rows)
+    xpic: np.ndarray           # (2, P, D) XPIC(m) particle extrapolations (mpm.xpic; else 0 rows)
 
 
 class GridSpec(NamedTuple):
@@ -64,6 +65,7 @@ class NodalState(NamedTuple):
     velocity: np.ndarray
     acceleration: np.ndarray
     real_mass: np.ndarray      # B2 symmetry folds: the masses before the fold (else [0, M])
+    xpic: np.ndarray           # [7, N, M, D] XPIC(m) work slots (mpm.xpic; else 0 rows)
 
 
 class Conditions(NamedTuple):
@@ -144,11 +146,15 @@ class StepControl(NamedTuple):
     finite_strain: bool        # some field takes the finite-strain update (mpm.finite_strain)
     material_kind: np.ndarray  # per field: mpm.finite_strain.LINEAR / NEO_HOOKEAN
     material_params: np.ndarray
+    xpic: int                  # XPIC(m) order (0: FLIP with the pic blend; mpm.xpic)
+    xpic_blend: float          # XPIC fraction blended into FLIP (the pic option when xpic >= 1)
+    xpic_correction: bool      # multimaterial XPIC with the Delta v term (004 Eq 37)
 
 
-def particle_state(pt, axisymmetric: bool, musl: bool, finite_strain: bool = False) -> ParticleState:
+def particle_state(pt, axisymmetric: bool, musl: bool, finite_strain: bool = False,
+                   xpic: int = 0) -> ParticleState:
     """Bundle of :class:`mpm.particles.Particles` (LR radii: half the spacing) with the
-    work arrays of MUSL, axisymmetric and finite-strain runs."""
+    work arrays of MUSL, axisymmetric, finite-strain and XPIC(m) runs."""
     half_width = np.ascontiguousarray(np.broadcast_to(0.5 * np.asarray(pt.spacing, float),
                                                       pt.x.shape))
     n = pt.P if axisymmetric else 0
@@ -159,7 +165,8 @@ def particle_state(pt, axisymmetric: bool, musl: bool, finite_strain: bool = Fal
                          np.zeros((pt.P if musl else 0, pt.x.shape[1])), np.zeros(n),
                          np.zeros((n, pt.strain.shape[1])), np.zeros(n), pt.F,
                          np.zeros((pt.P if finite_strain else 0, pt.x.shape[1], pt.x.shape[1])),
-                         pt.foff0, pt.eos if pt.eos is not None else np.zeros((0, 2)))
+                         pt.foff0, pt.eos if pt.eos is not None else np.zeros((0, 2)),
+                         np.zeros((2 if xpic else 0, pt.P, pt.x.shape[1])))
 
 
 def grid_spec(grid, kind: int, axis_nodes: np.ndarray) -> GridSpec:
@@ -167,11 +174,15 @@ def grid_spec(grid, kind: int, axis_nodes: np.ndarray) -> GridSpec:
                     np.ascontiguousarray(axis_nodes, dtype=np.int64))
 
 
-def nodal_state(nd, folds: bool = False) -> NodalState:
-    """Bundle of :class:`mpm.grid.NodalFields`; ``folds``: the run has B2 symmetry sides."""
+def nodal_state(nd, folds: bool = False, xpic: int = 0) -> NodalState:
+    """Bundle of :class:`mpm.grid.NodalFields`; ``folds``: the run has B2 symmetry sides;
+    ``xpic``: the XPIC(m) order (its work slots, mpm.xpic)."""
+    from .xpic import N_SLOTS
     real_mass = np.zeros((nd.N if folds else 0, nd.M))
+    work = np.zeros((N_SLOTS if xpic else 0,) + nd.momentum.shape)
     return NodalState(nd.mass, nd.momentum, nd.force, nd.volume, nd.volume_gradient,
-                      nd.displacement, nd.position, nd.velocity, nd.acceleration, real_mass)
+                      nd.displacement, nd.position, nd.velocity, nd.acceleration, real_mass,
+                      work)
 
 
 def conditions(bc) -> Conditions:
@@ -220,10 +231,12 @@ def step_control(model) -> StepControl:
         from .multimaterial_constants import S_MASS_TOL
         mass_tol = float(tb.settings[S_MASS_TOL])
     return StepControl(float(model.dt), float(model.ramp_time), int(model.ramp_code),
-                       float(opts["pic"]), int(UPDATE_CODES[opts["update"]]),
+                       0.0 if opts["xpic"] else float(opts["pic"]),
+                       int(UPDATE_CODES[opts["update"]]),
                        opts["damping"] == "kinetic", opts["nodal_displacement"] == "linear",
                        bool(with_interface), bool(with_interface and not model.force_limiting),
                        bool(tb is not None and tb.uses_lr), mass_tol,
                        model.case.analysis == "axisymmetric", model.C,
                        bool(np.any(model.material_kind)), model.material_kind,
-                       model.material_params)
+                       model.material_params, int(opts["xpic"]), float(opts["pic"]),
+                       bool(opts["xpic_correction"]))

@@ -21,6 +21,9 @@ mpm/LAYOUT.md:
 8. :func:`phase_g2p`: FLIP/PIC particle update, x += dt sum S v+, velocity gradient,
    and (USL) the stress update (axisymmetric: with the hoop strain; the fields with a
    deformation gradient: :func:`phase_finite_strain`, mpm/finite_strain.py);
+   XPIC(m) runs (mpm/xpic.py): the XPIC grid velocity before it (with the v_alpha and
+   Delta v_alpha kept around step 3), the XPIC(m) blend of velocities and positions
+   after it (004 Eq 35-44);
 9. MUSL only: :func:`phase_musl` (stress from the updated particle momenta
    re-extrapolated with the start-of-step shape functions);
 10. kinetic damping and the history row.
@@ -53,6 +56,7 @@ from .multimaterial_lr import lr_kernel
 from .kernels3d import p2g_internal_force_3d, p2g_momentum_3d, stress_from_grid_3d
 from .parallel import g2p_blocks, p2g_blocks
 from .cpdi import g2p_cpdi, internal_force_cpdi, is_cpdi, momentum_cpdi, p2g_cpdi, stress_cpdi
+from .xpic import phase_xpic_grid, phase_xpic_particles, phase_xpic_save, phase_xpic_start
 
 _OVER_LIMIT = int(STATUS_OVER_LIMIT)
 
@@ -371,8 +375,10 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
     nodes = phase_multimaterial_nodes(ctl, pt, grid, nd, pairs) if multi_fields \
         else np.empty(0, np.int64)
     multi = nodes.size > 0
+    phase_xpic_save(ctl, nd)
     if multi:
         phase_contact(0, ctl, grid, nd, pairs, nodes)
+    phase_xpic_start(ctl, nd)
     u_finite = 0.0
     if ctl.mode == USF:
         phase_stress(ctl, pt, grid, nd, pt.x)
@@ -385,9 +391,12 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
     if multi:
         phase_contact(1, ctl, grid, nd, pairs, nodes)
         wbc += phase_bonded_conditions(ctl, nd, bc, pairs, vel, True)
+    phase_xpic_grid(ctl, pt, grid, nd, bc)
     ke, U, work, lost, ke_grid = phase_g2p(ctl, pt, grid, nd, blocks, scale)
     if lost >= 0:
         return lost
+    ke, diss_xpic = phase_xpic_particles(ctl, pt, ke)
+    diss += diss_xpic
     if ctl.mode == MUSL:
         U = phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes)
     row[1] = ke
