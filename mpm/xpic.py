@@ -37,13 +37,16 @@ acceleration. The kinetic energy the projection removes is counted as dissipated
 Work arrays (mpm/state.py): ``NodalState.xpic`` [7, N, M, D] with the slots below and
 ``ParticleState.xpic`` [2, P, D] (S v~ and S (v~ - v+) at the start-of-step positions);
 zero rows when XPIC is off. The kernels are written once for 2D and 3D (tensor-product
-shapes: linear, uGIMP, B2, on the 3-node stencil of :func:`mpm.shape.axis_weights3`).
+shapes: linear, uGIMP, B2, on the 3-node stencil of :func:`mpm.shape.axis_weights3`);
+the CPDI shapes (2D) use each particle's node list of :func:`mpm.cpdi.shape_cpdi`, built
+once per step from the start-of-step domains (the ones P2G used).
 """
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
 
+from .cpdi import is_cpdi, shape_cpdi
 from .kernels import nodal_kinematics
 from .shape import axis_weights3
 
@@ -148,12 +151,15 @@ def _scatter_pass_2d(base, wts, pmass, field, nx, work, src, dst) -> None:
 
 @njit(cache=True)
 def scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst, base,
-                 wts) -> None:
+                 wts, lists) -> None:
     """dst <- sum_p m_p S_ip (S src)_p (slots of ``work``), each field on its own
     particles: m_i S+_alpha S src before the division by the nodal mass (004 Eq 43-44);
-    2D with the step's stencils ``base``, ``wts`` (:func:`stencils_2d`)."""
+    2D with the step's stencils ``base``, ``wts`` (:func:`stencils_2d`), CPDI shapes with
+    its node ``lists`` = (nodes, weights, counts) (:func:`stencils_cpdi`)."""
     work[dst] = 0.0
-    if x.shape[1] == 2:
+    if lists[2].shape[0]:
+        _scatter_pass_list(lists[0], lists[1], lists[2], pmass, field, work, src, dst)
+    elif x.shape[1] == 2:
         _scatter_pass_2d(base, wts, pmass, field, nn[0], work, src, dst)
     else:
         _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst)
@@ -188,9 +194,67 @@ def _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, ds
                 wf[dst, k + d] += mp * wt[c] * sv[d]
 
 
+#: CPDI shapes: entries per particle (4 corners x 3 x 3 nodes of B2-CPDI; 2 x 2 for CPDI)
+CPDI_ENTRIES = 36
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def stencils_cpdi(x, F, hw, origin, cell, nn, kind, cidx, cwt, cnt) -> None:
+    """The CPDI / B2-CPDI node lists of the particles (mpm/cpdi.py, one entry per corner
+    and node, a node reached by several corners listed once per corner), computed once
+    per step for every pass: ``cnt[p]`` entries (-1 off the grid), nodes ``cidx`` and
+    weights S_ip ``cwt``."""
+    G = np.empty((CPDI_ENTRIES, 2))
+    for p in range(x.shape[0]):
+        cnt[p] = shape_cpdi(p, x, F, hw, origin, cell, nn, kind, cidx[p], cwt[p], G)
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _scatter_pass_list(cidx, cwt, cnt, pmass, field, work, src, dst) -> None:
+    """The particle loop of :func:`scatter_pass` on node lists (CPDI shapes, 2D)."""
+    for p in range(cnt.shape[0]):
+        f = field[p]
+        a0 = 0.0
+        a1 = 0.0
+        for c in range(cnt[p]):
+            w = cwt[p, c]
+            a0 += w * work[src, cidx[p, c], f, 0]
+            a1 += w * work[src, cidx[p, c], f, 1]
+        a0 *= pmass[p]
+        a1 *= pmass[p]
+        for c in range(cnt[p]):
+            w = cwt[p, c]
+            work[dst, cidx[p, c], f, 0] += w * a0
+            work[dst, cidx[p, c], f, 1] += w * a1
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _gather_list(cidx, cwt, cnt, field, work, nvel, out) -> None:
+    """:func:`gather_particles` on node lists (CPDI shapes, 2D)."""
+    for p in range(cnt.shape[0]):
+        f = field[p]
+        a0 = 0.0
+        a1 = 0.0
+        b0 = 0.0
+        b1 = 0.0
+        for c in range(cnt[p]):
+            w = cwt[p, c]
+            n = cidx[p, c]
+            v0 = work[VS, n, f, 0]
+            v1 = work[VS, n, f, 1]
+            a0 += w * v0
+            a1 += w * v1
+            b0 += w * (v0 - nvel[n, f, 0])
+            b1 += w * (v1 - nvel[n, f, 1])
+        out[0, p, 0] = a0
+        out[0, p, 1] = a1
+        out[1, p, 0] = b0
+        out[1, p, 1] = b1
+
+
 @njit(cache=True)
 def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind, mass,
-                       nacc, dt, work, base, wts) -> None:
+                       nacc, dt, work, base, wts, lists) -> None:
     """v~ = m (v_alpha - v*_alpha) + a_alpha dt into slot VS (004 Eq 41-44); ``work[V0]``
     and ``work[DV]`` hold v_alpha and Delta v_alpha (:func:`start_fields`). Without
     ``corrected`` the Delta v terms are left out (the uncorrected variant)."""
@@ -200,10 +264,10 @@ def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind
     work[VS] = 0.0
     N, M, D = nacc.shape
     for k in range(2, m + 1):
-        scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, VK, VN, base, wts)
+        scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, VK, VN, base, wts, lists)
         next_dk = corrected and k < m
         if next_dk:
-            scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, DK, DN, base, wts)
+            scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, DK, DN, base, wts, lists)
         sign = 1.0 if k % 2 == 0 else -1.0
         cv = (m + 1.0 - k) / k            # Eq 43
         cd = (m - k) / k                  # Eq 44
@@ -239,9 +303,13 @@ def keep_conditioned(work, nvel, bc_node, bc_field, bc_comp, g_node, g_field) ->
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def gather_particles(x, field, origin, cell, nn, lp, kind, work, nvel, out, base, wts) -> None:
+def gather_particles(x, field, origin, cell, nn, lp, kind, work, nvel, out, base, wts,
+                     lists) -> None:
     """out[0, p] = S v~, out[1, p] = S (v~ - v+) at the start-of-step positions (2D: the
-    step's stencils ``base``, ``wts``)."""
+    step's stencils ``base``, ``wts``; CPDI shapes: the node ``lists``)."""
+    if lists[2].shape[0]:
+        _gather_list(lists[0], lists[1], lists[2], field, work, nvel, out)
+        return
     if x.shape[1] != 2:
         _gather_particles_any(x, field, origin, cell, nn, lp, kind, work, nvel, out)
         return
@@ -340,11 +408,18 @@ def phase_xpic_grid(ctl, pt, grid, nd, bc) -> None:
         return
     nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
     P = pt.x.shape[0]
-    n2 = P if pt.x.shape[1] == 2 else 0
+    cpdi = is_cpdi(grid.kind)
+    n2 = P if pt.x.shape[1] == 2 and not cpdi else 0
+    nl = P if cpdi else 0
     base = np.empty(n2, np.int64)
     wts = np.empty((n2, 9))
+    lists = (np.empty((nl, CPDI_ENTRIES), np.int64), np.empty((nl, CPDI_ENTRIES)),
+             np.empty(nl, np.int64))
     if n2:
         stencils_2d(pt.x, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind, base, wts)
+    if nl:
+        stencils_cpdi(pt.x, pt.F, pt.half_width, grid.origin, grid.cell, grid.nn, grid.kind,
+                      lists[0], lists[1], lists[2])
     if ctl.xpic == 1:
         nd.xpic[VS] = nd.velocity
     else:
@@ -353,11 +428,11 @@ def phase_xpic_grid(ctl, pt, grid, nd, bc) -> None:
         corrected = ctl.xpic_correction and nd.mass.shape[1] > 1
         xpic_grid_velocity(ctl.xpic, corrected, pt.x, pt.mass, pt.field, grid.origin,
                            grid.cell, grid.nn, pt.lp, grid.kind, mass, nd.acceleration, ctl.dt,
-                           nd.xpic, base, wts)
+                           nd.xpic, base, wts, lists)
         keep_conditioned(nd.xpic, nd.velocity, bc.node, bc.field, bc.comp, bc.ghost_node,
                          bc.ghost_field)
     gather_particles(pt.x, pt.field, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
-                     nd.xpic, nd.velocity, pt.xpic, base, wts)
+                     nd.xpic, nd.velocity, pt.xpic, base, wts, lists)
 
 
 @njit(cache=True, inline="always")
