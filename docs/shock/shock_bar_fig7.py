@@ -7,7 +7,10 @@ B2 shape). Left: the particles' longitudinal stress along the bar at the end of 
 run, one body (SMM) and two bodies joined at mid-length by a perfect interface (MM),
 with a zoom on the front as 004 Fig 7 shows it. Right: shock speed and shocked pressure
 and longitudinal stress (shock_front gauge, mpm/shock_front.py) over impact speeds
-against the Hugoniot of the same material (interfaces.analytic.hugoniot). Writes
+against the Hugoniot of the same material (interfaces.analytic.hugoniot). Bottom: the particle
+updates 004 compares at 1840 m/s (B2 and B2-CPDI with FLIP, B2-CPDI with XPIC(5), and
+XPIC(5) without the Delta v term of Eq 33, "uncorrected"): the front of the single body,
+and the split bar's difference from it. Writes
 shock_bar_fig7.png and .csv here.
 
     PYTHONPATH=. python docs/shock/shock_bar_fig7.py
@@ -30,6 +33,13 @@ HERE = Path(__file__).resolve().parent
 #: impact speeds (mm/s): 004 Fig 7 is 1840 m/s
 SPEEDS = (5e5, 1e6, 1.84e6, 2.5e6)
 QUANTITIES = ("shock_speed", "pressure", "longitudinal_stress")
+#: particle updates of 004 Fig 7 at 1840 m/s (label, mpm options): 004 ran B2-CPDI with
+#: XPIC(5), and showed that XPIC without the Delta v term of Eq 33 oscillates at the
+#: perfect interface of the split bar
+VARIANTS = (("B2, FLIP", {}),
+            ("B2-CPDI, FLIP", {"shape": "b2cpdi"}),
+            ("B2-CPDI, XPIC(5)", {"shape": "b2cpdi", "xpic": 5}),
+            ("B2-CPDI, XPIC(5) uncorrected", {"shape": "b2cpdi", "xpic": 5, "xpic_correction": False}))
 
 
 def shock_runs() -> list[tuple[float, dict, dict]]:
@@ -49,14 +59,53 @@ def shock_runs() -> list[tuple[float, dict, dict]]:
     return out
 
 
-def particle_stress(split: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def particle_stress(split: bool, **options) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(reference position x0, current x, longitudinal compressive stress) of every
     particle at the end of the 1840 m/s run, sorted by reference position."""
-    res = mpm.solve(cases.build("shock_bar", split=split), progress=False)
+    res = mpm.solve(cases.build("shock_bar", split=split), progress=False, **options)
     x0 = res.fields["position"]
     x = x0 + res.fields["displacement"]
     order = np.lexsort((x0[:, 1], x0[:, 0]))
     return x0[order], x[order], -res.fields["stress"][order, 0]
+
+
+def variant_rows(sigma: float, length: float, cell: float):
+    """Per particle update of VARIANTS at 1840 m/s: the scatter of the single body's
+    particle stress behind the front (/ Hugoniot sigma), the largest split - single
+    difference near the interface and anywhere, and the middle-row profiles."""
+    rows, profiles = [], {}
+    for label, options in VARIANTS:
+        x0, x, s1 = particle_stress(False, **options)
+        _, x_m, s2 = particle_stress(True, **options)
+        behind = (x0[:, 0] > 25.0) & (x0[:, 0] < 45.0)
+        dev = s1[behind] / sigma - 1.0
+        near = np.abs(x0[:, 0] - 0.5 * length) <= 2.0 * cell
+        diff = np.abs(s2 - s1)
+        rows.append(f"# {label}: stress behind the front / Hugoniot sigma - 1: mean {dev.mean():.4f}, "
+                    f"standard deviation {dev.std():.4f}, largest {np.abs(dev).max():.4f}; "
+                    f"|split - single| near the interface {diff[near].max():.4g} MPa, anywhere "
+                    f"{diff.max():.4g} MPa ({diff.max() / s1.max():.2e} of the peak)")
+        print(rows[-1], flush=True)
+        profiles[label] = (x0, x, s1, diff)
+    return rows, profiles
+
+
+def plot_variants(axes, profiles, length: float) -> None:
+    """Bottom row: the front of the single body and |split - single| along the bar."""
+    for k, (label, (x0, x, s1, diff)) in enumerate(profiles.items()):
+        rows_y = np.unique(x0[:, 1])
+        mid = np.isclose(x0[:, 1], rows_y[len(rows_y) // 2])
+        axes[0].plot(x[mid, 0], s1[mid] / 1e3 + 20.0 * k, lw=0.9, label=f"{label} (+{20 * k} GPa)")
+        axes[1].semilogy(x0[mid, 0], np.maximum(diff[mid], 1e-12), lw=0.9, label=label)
+    axes[0].set_xlabel("x (mm)")
+    axes[0].set_ylabel("-sigma_xx (GPa), curves offset")
+    axes[0].set_title("1840 m/s, one body, middle row: particle updates", fontsize=10)
+    axes[0].legend(fontsize=7)
+    axes[1].axvline(0.5 * length, color="k", lw=0.6)
+    axes[1].set_xlabel("x0 (mm)")
+    axes[1].set_ylabel("|MM - SMM| of -sigma_xx (MPa)")
+    axes[1].set_title("split bar (perfect interface at the line) against one body", fontsize=10)
+    axes[1].legend(fontsize=7)
 
 
 def main() -> None:
@@ -86,7 +135,10 @@ def main() -> None:
                 f"mean {dev.mean():.4f}, standard deviation {dev.std():.4f}, largest {np.abs(dev).max():.4f}")
     print(rows[-1])
 
-    fig, axes = plt.subplots(2, 2, figsize=(12, 8))
+    more, profiles = variant_rows(sigma, length, cell)
+    rows += more
+    fig, axes = plt.subplots(3, 2, figsize=(12, 12))
+    plot_variants(axes[2], profiles, length)
     mid = np.isclose(x0_s[:, 1], np.unique(x0_s[:, 1])[len(np.unique(x0_s[:, 1])) // 2])
     ax = axes[0, 0]
     ax.plot(x_s[mid, 0], s_s[mid] / 1e3, "o-", ms=2.5, lw=0.8, color="tab:blue", label="SMM (one body)")
