@@ -2,12 +2,13 @@
 
 004 judges contact methods on the compaction of ellipses by the material points of one
 ellipse "penetrating into other ellipses". Counted here: a particle p of one of the named
-bodies is inside another material when the centre of a particle q of a different named
-body is closer than half the sum of their current radii, |x_p - x_q| < (r_p + r_q) / 2,
-with r = (s / 2) J^(1/D) (s the undeformed particle spacing, J = V / V_0 the particle's
-volume ratio). Particles of two materials in contact sit about r_p + r_q apart (their
-domains touch); a particle whose domain overlaps another material's particle by more
-than half its size has crossed the contact surface.
+bodies is inside another material when its centre lies in the current domain of a
+particle q of a different named body: the parallelogram (parallelepiped) F_q [-l, l]^D
+around x_q, with l the undeformed half spacing and F_q the particle's deformation
+gradient (the CPDI domain; runs that do not track F take the square of the particle's
+volume, F = (V / V_0)^(1/D) I). Particles of two materials in contact have touching
+domains, none of their centres inside the other's; a centre inside means the particle
+crossed the contact surface by more than half its size.
 """
 from __future__ import annotations
 
@@ -18,10 +19,12 @@ from interfaces.errors import CaseError
 
 
 def interpenetration_quantities(case, x: np.ndarray, field: np.ndarray, volume: np.ndarray,
-                                volume0: np.ndarray, spacing: float) -> dict:
+                                volume0: np.ndarray, spacing, F: np.ndarray | None = None) -> dict:
     """``interpenetration`` (count of particles inside another material) and
     ``interpenetration_fraction`` (of the named bodies' particles), for
-    ``case.measurements["interpenetration"]["bodies"]`` (default: every body)."""
+    ``case.measurements["interpenetration"]["bodies"]`` (default: every body). ``F``:
+    the particles' deformation gradients (P, D, D), None where the run does not track
+    them."""
     spec = case.measurements.get("interpenetration")
     if spec is None:
         return {}
@@ -32,21 +35,27 @@ def interpenetration_quantities(case, x: np.ndarray, field: np.ndarray, volume: 
                         f"got {bodies!r}")
     members = np.flatnonzero(np.isin(field, [names.index(b) for b in bodies]))
     D = x.shape[1]
-    r = 0.5 * spacing * np.abs(volume[members] / volume0[members]) ** (1.0 / D)
-    count = int(inside_other_material(x[members], field[members], r).sum())
+    if F is None:
+        F = (np.abs(volume / volume0) ** (1.0 / D))[:, None, None] * np.eye(D)
+    half = 0.5 * np.broadcast_to(np.asarray(spacing, float), (D,))
+    count = int(inside_other_material(x[members], field[members], F[members], half).sum())
     return {"interpenetration": count, "interpenetration_fraction": count / max(members.size, 1)}
 
 
-def inside_other_material(x: np.ndarray, field: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """Mask of the particles (positions ``x``, materials ``field``, current radii ``r``)
-    closer to a particle of another material than half the sum of their radii."""
+def inside_other_material(x: np.ndarray, field: np.ndarray, F: np.ndarray,
+                          half: np.ndarray) -> np.ndarray:
+    """Mask of the particles (positions ``x`` (P, D), materials ``field``) whose centre
+    lies inside the domain F_q [-half, half]^D of a particle q of another material."""
     inside = np.zeros(x.shape[0], bool)
     if x.shape[0] < 2:
         return inside
-    pairs = cKDTree(x).query_pairs(float(r.max()), output_type="ndarray")
-    if pairs.size:
-        p, q = pairs[:, 0], pairs[:, 1]
-        hit = (field[p] != field[q]) & (np.linalg.norm(x[p] - x[q], axis=1) < 0.5 * (r[p] + r[q]))
+    reach = np.linalg.norm(np.abs(F) @ half, axis=1)         # circumscribed radius per domain
+    pairs = cKDTree(x).query_pairs(float(reach.max()), output_type="ndarray")
+    if pairs.size == 0:
+        return inside
+    pairs = pairs[field[pairs[:, 0]] != field[pairs[:, 1]]]
+    for p, q in (pairs.T, pairs[:, ::-1].T):                  # p's centre in q's domain, and back
+        xi = np.linalg.solve(F[q], (x[p] - x[q])[:, :, None])[:, :, 0]
+        hit = np.all(np.abs(xi) < half, axis=1)
         inside[p[hit]] = True
-        inside[q[hit]] = True
     return inside

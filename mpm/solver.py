@@ -719,8 +719,10 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
                 q[key] *= 2.0 * math.pi
     q.update(bulk_quantities(case, pt, q["strain_energy"] + q["interface_energy"],
                              2.0 * math.pi if model.axisymmetric else 1.0))
-    q.update(interpenetration_quantities(case, pt.x, pt.field, pt.volume, pt.volume0,
-                                         float(np.max(np.asarray(pt.spacing, float)))))
+    tracked = bool(np.any(model.material_kind)) or opts["shape"] in ("cpdi", "b2cpdi")
+    D = pt.x.shape[1]
+    q.update(interpenetration_quantities(case, pt.x, pt.field, pt.volume, pt.volume0, pt.spacing,
+                                         pt.F[:, :D, :D] if tracked else None))
     if run.gauges is not None:
         q.update(run.gauges.quantities())
         res.diagnostics["gauges"] = run.gauges.history()
@@ -729,7 +731,7 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
                   "stress": pt.stress.copy(), "strain": pt.strain.copy(),
                   "material": pt.field.copy(), "velocity": pt.v.copy(),
                   "volume": pt.volume0.copy()}
-    if np.any(model.material_kind) or opts["shape"] in ("cpdi", "b2cpdi"):
+    if tracked:
         res.fields["deformation_gradient"] = pt.F.reshape(pt.P, 9).copy()
     spacing = float(np.max(np.asarray(model.grid.cell, float) / np.asarray(opts["ppc"], float)))
     res.profiles.update(line_profiles(case, pt.x0, pt.x - pt.x0, spacing))

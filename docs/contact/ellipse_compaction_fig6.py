@@ -59,7 +59,7 @@ def solve(contact: str, args, store: Path) -> dict:
            "position": res.fields["position"] + res.fields["displacement"],
            "material": res.fields["material"], "rigid": np.array(case.discretization["mpm"]["rigid_bodies"]),
            "names": np.array([b.name for b in case.bodies]),
-           "J": np.linalg.det(res.fields["deformation_gradient"].reshape(-1, 3, 3)),
+           "F": res.fields["deformation_gradient"].reshape(-1, 3, 3)[:, :2, :2],
            "spacing": args.cell / case.discretization["mpm"]["ppc"],
            "interpenetration": res.quantities["interpenetration"],
            "wall_s": wall, "cpu_s": cpu, "particles": res.fields["material"].size}
@@ -103,8 +103,8 @@ def main() -> None:
         ell = np.char.startswith(names, "ellipse")
         ax.scatter(*r["position"][~ell].T, s=1, c="0.6", linewidths=0)
         ax.scatter(*r["position"][ell].T, s=1, c=r["material"][ell] % 10, cmap="tab10", linewidths=0)
-        radius = 0.5 * float(r["spacing"]) * np.sqrt(np.abs(r["J"][ell]))
-        inside = inside_other_material(r["position"][ell], r["material"][ell], radius)
+        inside = inside_other_material(r["position"][ell], r["material"][ell], r["F"][ell],
+                                       np.full(2, 0.5 * float(r["spacing"])))
         ax.scatter(*r["position"][ell][inside].T, s=4, c="k", linewidths=0)
         ax.set_aspect("equal")
         ax.set_title(f"{c}: {int(r['interpenetration'])} particles inside\nanother ellipse (black)", fontsize=10)

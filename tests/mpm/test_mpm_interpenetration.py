@@ -1,0 +1,47 @@
+"""The interpenetration count of 004 Fig 6 (mpm/interpenetration.py): a particle is inside
+another material when its centre lies in the deformed domain F_q [-l, l]^D of a particle
+q of that material."""
+import numpy as np
+
+from mpm.interpenetration import inside_other_material
+
+S = 0.5                      # particle spacing
+HALF = np.full(2, 0.5 * S)
+
+
+def _block(x0: float, y0: float, n: int = 4) -> np.ndarray:
+    g = (np.arange(n) + 0.5) * S
+    return np.array([(x0 + a, y0 + b) for a in g for b in g])
+
+
+def _count(a: np.ndarray, b: np.ndarray, F=None) -> int:
+    x = np.vstack([a, b])
+    field = np.repeat([0, 1], [len(a), len(b)])
+    F = np.broadcast_to(np.eye(2), (len(x), 2, 2)) if F is None else F
+    return int(inside_other_material(x, field, F, HALF).sum())
+
+
+def test_touching_blocks_do_not_interpenetrate_and_overlapping_ones_do():
+    a = _block(0.0, 0.0)
+    assert _count(a, _block(4 * S, 0.0)) == 0                  # domains touch along x = 2
+    assert _count(a, _block(4 * S - 0.4 * S, 0.0)) == 0        # overlap < half a particle
+    # overlap of 0.6 spacing: the facing columns (4 + 4 particles) have centres inside
+    assert _count(a, _block(4 * S - 0.6 * S, 0.0)) == 8
+    # same material: never counted
+    x = np.vstack([a, a + 0.1])
+    assert not inside_other_material(x, np.zeros(len(x), int), np.broadcast_to(np.eye(2), (len(x), 2, 2)),
+                                     HALF).any()
+
+
+def test_the_domain_follows_the_deformation_gradient():
+    """A point off the undeformed square of q but inside its sheared domain counts, and
+    the other way round."""
+    xq = np.zeros((1, 2))
+    xp = np.array([[0.45, 0.2]])           # beyond l = 0.25 along x
+    F_id = np.eye(2)[None]
+    F_shear = np.array([[[1.0, 1.0], [0.0, 1.0]]])      # x = X + Y: (0.45, 0.2) <- (0.25, 0.2)
+    x = np.vstack([xq, xp])
+    field = np.array([0, 1])
+    assert not inside_other_material(x, field, np.vstack([F_id, F_id]), HALF).any()
+    hit = inside_other_material(x, field, np.vstack([F_shear * 1.01, F_id]), HALF)
+    assert hit.tolist() == [False, True]
