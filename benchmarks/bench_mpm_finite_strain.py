@@ -12,57 +12,29 @@ Usage: ``python benchmarks/bench_mpm_finite_strain.py [--steps 200] [--windows 6
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import time
-from pathlib import Path
+
+from mpm_windows import interleaved_rates, loaded_block, write_json
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 
-def _case(material: str, side: float = 160.0):
-    from interfaces import (Body, BoundaryCondition, Case, NeoHookean, Rectangle,
-                            isotropic_from_KG)
+def _material(name: str):
+    from interfaces import NeoHookean, isotropic_from_KG
     K, G = 2450.0, 940.0
-    mat = NeoHookean(K=K, G=G, rho=1e-9) if material == "neo_hookean" else \
-        isotropic_from_KG(K, G, 1e-9)
-    return Case(name="block", analysis="plane_strain", thickness=1.0, materials={"m": mat},
-                bodies=[Body("b", Rectangle(0, 0, side, side), "m")],
-                boundary_conditions=[
-                    BoundaryCondition("fixed", "b", "ymin", ("x", "y"), (0.0, 0.0)),
-                    BoundaryCondition("traction", "b", "ymax", ("x", "y"), (1.0, -5.0))])
+    return NeoHookean(K=K, G=G, rho=1e-9) if name == "neo_hookean" else isotropic_from_KG(K, G, 1e-9)
 
 
 def main() -> None:
-    import numpy as np
-    from mpm.options import merge
-    from mpm.solver import Model, _Runner
     ap = argparse.ArgumentParser()
     ap.add_argument("--steps", type=int, default=200)
     ap.add_argument("--windows", type=int, default=6)
     args = ap.parse_args()
-    runs = {}
-    for name in ("linear", "neo_hookean"):
-        case = _case(name)
-        model = Model(case, merge(case, {"cell": 1.0, "shape": "ugimp", "progress": False}))
-        run = _Runner(model)
-        run._advance(3)        # compile / load the cached kernels
-        runs[name] = (model, run, [])
-    per = max(1, args.steps // args.windows)
-    for _ in range(args.windows):
-        for name, (model, run, rates) in runs.items():
-            t0 = time.perf_counter()
-            run._advance(per)
-            rates.append(model.particles.P * per / (time.perf_counter() - t0))
-    out = {name: {"particles": int(m.particles.P), "steps": per * args.windows,
-                  "particle_steps_per_s": float(np.median(r)),
-                  "best_window_particle_steps_per_s": float(np.max(r))}
-           for name, (m, _, r) in runs.items()}
+    out = interleaved_rates({name: (loaded_block(_material(name)), {"shape": "ugimp"})
+                             for name in ("linear", "neo_hookean")}, args.steps, args.windows)
     out["ratio_neo_hookean_to_linear"] = (out["neo_hookean"]["particle_steps_per_s"]
                                           / out["linear"]["particle_steps_per_s"])
-    text = json.dumps(out, indent=2)
-    print(text)
-    (Path(__file__).with_suffix(".json")).write_text(text + "\n")
+    write_json(__file__, out)
 
 
 if __name__ == "__main__":

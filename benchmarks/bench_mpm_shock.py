@@ -15,9 +15,9 @@ Usage: ``python benchmarks/bench_mpm_shock.py [--height 10] [--windows 3]``
 from __future__ import annotations
 
 import argparse
-import json
 import os
-from pathlib import Path
+
+from mpm_windows import summary, write_json
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
@@ -33,7 +33,6 @@ def _case(material: str, height: float):
 
 
 def main() -> None:
-    import numpy as np
     import mpm
     ap = argparse.ArgumentParser()
     ap.add_argument("--height", type=float, default=10.0)
@@ -49,15 +48,10 @@ def main() -> None:
             res = mpm.solve(_case(name, args.height), progress=False)
             rates[name].append(res.timings["particle_steps_per_s"])
             info[name] = (res.diagnostics["particles"], res.diagnostics["time_steps"])
-    out = {name: {"particles": int(info[name][0]), "steps": int(info[name][1]),
-                  "particle_steps_per_s": float(np.median(rates[name])),
-                  "best_window_particle_steps_per_s": float(np.max(rates[name]))}
-           for name in names}
+    out = summary({n: info[n][0] for n in names}, {n: info[n][1] for n in names}, rates)
     out["ratio_mie_gruneisen_to_neo_hookean"] = (out["mie_gruneisen"]["particle_steps_per_s"]
                                                  / out["neo_hookean"]["particle_steps_per_s"])
-    text = json.dumps(out, indent=2)
-    print(text)
-    (Path(__file__).with_suffix(".json")).write_text(text + "\n")
+    write_json(__file__, out)
 
 
 if __name__ == "__main__":

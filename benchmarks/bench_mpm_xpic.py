@@ -14,11 +14,9 @@ Usage: ``python benchmarks/bench_mpm_xpic.py [--steps 120] [--windows 6] [--side
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import os
-import time
-from pathlib import Path
+
+from mpm_windows import interleaved_rates, loaded_block, write_json
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
@@ -32,58 +30,23 @@ RUNS = {
 }
 
 
-def _case(split: bool, side: float):
-    from interfaces import (Body, BoundaryCondition, Case, InterfacePair, IsotropicElastic,
-                            LinearInterface, Rectangle)
-    mat = IsotropicElastic(E=1000.0, nu=0.3, rho=1e-9)
-    if split:
-        bodies = [Body("low", Rectangle(0, 0, side, side / 2), "m"),
-                  Body("up", Rectangle(0, side / 2, side, side / 2), "m")]
-        pairs = [InterfacePair("low", "up", LinearInterface(Dn=math.inf, Dt=math.inf))]
-    else:
-        bodies, pairs = [Body("b", Rectangle(0, 0, side, side), "m")], []
-    return Case(name="block", analysis="plane_strain", thickness=1.0, materials={"m": mat},
-                bodies=bodies, interfaces=pairs, boundary_conditions=[
-                    BoundaryCondition("fixed", bodies[0].name, "ymin", ("x", "y"), (0.0, 0.0)),
-                    BoundaryCondition("traction", bodies[-1].name, "ymax", ("x", "y"),
-                                      (1.0, -5.0))])
-
-
 def main() -> None:
-    import numpy as np
-    from mpm.options import merge
-    from mpm.solver import Model, _Runner
+    from interfaces import IsotropicElastic
     ap = argparse.ArgumentParser()
     ap.add_argument("--steps", type=int, default=120)
     ap.add_argument("--windows", type=int, default=6)
     ap.add_argument("--side", type=float, default=160.0)
     args = ap.parse_args()
-    runs = {}
-    for name, (split, opts) in RUNS.items():
-        case = _case(split, args.side)
-        model = Model(case, merge(case, dict({"cell": 1.0, "shape": "ugimp", "update": "usl",
-                                              "progress": False}, **opts)))
-        run = _Runner(model)
-        run._advance(3)        # compile / load the cached kernels
-        runs[name] = (model, run, [])
-    per = max(1, args.steps // args.windows)
-    for _ in range(args.windows):
-        for name, (model, run, rates) in runs.items():
-            t0 = time.perf_counter()
-            run._advance(per)
-            rates.append(model.particles.P * per / (time.perf_counter() - t0))
-    out = {name: {"particles": int(m.particles.P), "steps": per * args.windows,
-                  "particle_steps_per_s": float(np.median(r)),
-                  "best_window_particle_steps_per_s": float(np.max(r))}
-           for name, (m, _, r) in runs.items()}
+    mat = IsotropicElastic(E=1000.0, nu=0.3, rho=1e-9)
+    out = interleaved_rates({name: (loaded_block(mat, args.side, split),
+                                    dict({"shape": "ugimp", "update": "usl"}, **opts))
+                             for name, (split, opts) in RUNS.items()}, args.steps, args.windows)
     flip = out["flip"]["particle_steps_per_s"]
     split_flip = out["split_flip"]["particle_steps_per_s"]
     out["cost_xpic1_over_flip"] = flip / out["xpic1"]["particle_steps_per_s"]
     out["cost_xpic5_over_flip"] = flip / out["xpic5"]["particle_steps_per_s"]
     out["cost_split_xpic5_over_split_flip"] = split_flip / out["split_xpic5"]["particle_steps_per_s"]
-    text = json.dumps(out, indent=2)
-    print(text)
-    (Path(__file__).with_suffix(".json")).write_text(text + "\n")
+    write_json(__file__, out)
 
 
 if __name__ == "__main__":
