@@ -467,10 +467,13 @@ def stress_cpdi(x, pvol, pvol0, stress, strain, field, foff, foff0, F, hw, C, or
 
 # ------------------------------------------------------------- run setup ----
 
+#: the shape options whose particles carry a deformation gradient and domain vectors
+CPDI_SHAPES = ("cpdi", "b2cpdi")
+
 
 def cpdi_refusal(case, shape: str) -> str | None:
     """The one-line reason a case cannot run with ``shape`` (a CPDI shape), or None."""
-    if shape not in ("cpdi", "b2cpdi"):
+    if shape not in CPDI_SHAPES:
         return None
     if case.analysis == "3d":
         return (f"{shape!r} is implemented in 2D (plane strain / plane stress) only; in 3d use "

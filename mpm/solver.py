@@ -45,7 +45,7 @@ from .options import merge
 from .particles import apply_tractions, generate
 from .progress import ProgressBar, compile_notice
 from .rigid import with_rigid_conditions
-from .cpdi import cpdi_refusal, reference_scatter_cpdi
+from .cpdi import CPDI_SHAPES, cpdi_refusal, reference_scatter_cpdi
 from .shape import SHAPE_CODES
 from .step import run_steps
 from .vtk import write_vtk_series
@@ -109,6 +109,7 @@ class Model:
         lo, hi = case.bounds()
         self.grid = Grid.around(lo, hi, opts["cell"], opts["padding"], opts["grid_anchor"])
         self.kind = SHAPE_CODES[opts["shape"]]
+        self.cpdi = opts["shape"] in CPDI_SHAPES
         reason = cpdi_refusal(case, opts["shape"])
         if reason is not None:
             raise CaseError(f"mpm option shape: {reason}")
@@ -261,7 +262,7 @@ class Model:
             return None
         g, pt = self.grid, self.particles
         nd = NodalFields(g.N, self.M, g.D)
-        if self.kind in (SHAPE_CODES["cpdi"], SHAPE_CODES["b2cpdi"]):
+        if self.cpdi:
             lost = reference_scatter_cpdi(pt, g, self.kind, nd)
         else:
             lost = p2g_range(0, pt.P, pt.x0, np.zeros_like(pt.x0), pt.mass, pt.volume0,
@@ -719,7 +720,7 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
                 q[key] *= 2.0 * math.pi
     q.update(bulk_quantities(case, pt, q["strain_energy"] + q["interface_energy"],
                              2.0 * math.pi if model.axisymmetric else 1.0))
-    tracked = bool(np.any(model.material_kind)) or opts["shape"] in ("cpdi", "b2cpdi")
+    tracked = bool(np.any(model.material_kind)) or model.cpdi     # particles carry F
     D = pt.x.shape[1]
     q.update(interpenetration_quantities(case, pt.x, pt.field, pt.volume, pt.volume0, pt.spacing,
                                          pt.F[:, :D, :D] if tracked else None))
