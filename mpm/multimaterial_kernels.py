@@ -158,7 +158,7 @@ def _node_normal(i, a, b_law, g_a, g_b, om_a, om_b, a_rigid, b_rigid, settings, 
 
 
 @njit(cache=True)
-def _rigid_normal(g_a, g_r, settings, out) -> bool:
+def _rigid_normal(g_a, g_r, om_r, cell, settings, out) -> bool:
     """Normal from a deformable field to a rigid partner: the rigid body's own surface
     normal -g_r (000 Sec 2.5, RMVG; NairnMPM prefers the rigid gradient), turned to
     point the way the deformable field's outward gradient g_a points (out of a, into
@@ -167,9 +167,12 @@ def _rigid_normal(g_a, g_r, settings, out) -> bool:
     g_a - g_r, nearly parallel vectors cancel) then lay the normal along the face and
     the frictionless tangential motion carried the deformable field through the body
     (004 Fig 6 piston, found by tracing the first particle above it). A specified
-    normal (SN) is kept; False when the rigid field has no gradient at the node."""
+    normal (SN) is kept; False when the rigid field has no gradient at the node (inside
+    a rigid body its gradient is round-off: |g_r| below 1e-6 of Omega_r / dx)."""
     method = int(settings[S_NORMAL])
     if method == NORMAL_SN or method == NORMAL_SN_RADIAL:
+        return False
+    if not (math.sqrt(_dot(g_r, g_r)) > 1.0e-6 * om_r / cell[0]):
         return False
     for k in range(out.shape[0]):
         out[k] = -g_r[k]
@@ -364,7 +367,7 @@ def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force
     om_a = vol[i, a]
     if om_a + om_b < settings[S_EDGE_CUTOFF] * tvol:      # edge-node screening (000 Sec 3)
         return False
-    if not (rigid_b and _rigid_normal(grad[i, a], g_b, settings, n)) and \
+    if not (rigid_b and _rigid_normal(grad[i, a], g_b, om_b, cell, settings, n)) and \
             not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings,
                              lr_normal, n):
         return False
@@ -734,7 +737,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
         if write_out:
             node_out[i, OUT_STATUS] = STATUS_SCREENED
         return 0.0
-    if not (rigid_b and _rigid_normal(grad[i, a], g_b, settings, n)) and \
+    if not (rigid_b and _rigid_normal(grad[i, a], g_b, om_b, cell, settings, n)) and \
             not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings,
                              lr_normal, n):
         return 0.0

@@ -320,6 +320,17 @@ def test_thin_rigid_body_holds_a_field_at_a_node_beyond_its_mid_plane():
     np.testing.assert_array_equal(s["momentum"][0, 1], pr)
 
 
+def test_inside_a_rigid_body_its_round_off_gradient_is_not_a_normal():
+    """At a node inside a thick rigid body its volume gradient is round-off; the normal
+    then comes from the method (AG: the deformable field's outward gradient, up), not
+    from the round-off direction (here along x)."""
+    case = make_case(2, [(0, 1, CoulombFriction(0.0))])
+    tables = mm.build_pair_tables(case, {"normal": "AG", "separation": "velocity", "rigid_bodies": ["b1"]})
+    s = rigid_contact_state((0.5, 3.0), [(0.0, 1.0), (1e-20, 0.0)], (0.2, 0.8))
+    correct(1, s, tables)
+    np.testing.assert_allclose(velocities(s)[0, 0], (0.5, 0.0), atol=1e-12)
+
+
 @pytest.mark.parametrize("normal", ["AG", "LR"])
 def test_field_in_a_corner_of_two_rigid_bodies_is_held_by_both(normal):
     """A deformable field at a node shared by a fixed wall (to its right, larger volume)
