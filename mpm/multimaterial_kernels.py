@@ -14,7 +14,7 @@ from numba import njit
 
 from mpm.multimaterial_constants import (
     HPERP_NONE, LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, NORMAL_AG, NORMAL_LR,
-    NORMAL_AVG, NORMAL_MVG, NORMAL_RMVG, NORMAL_SN, OUT_AREA, OUT_ENERGY,
+    NORMAL_AVG, NORMAL_MVG, NORMAL_RMVG, NORMAL_SN, NORMAL_SN_RADIAL, OUT_AREA, OUT_ENERGY,
     OUT_JUMP_N, OUT_JUMP_T, OUT_NX, OUT_STATUS, OUT_TRACTION_N, OUT_TRACTION_T,
     P_DN_COMPRESSION, P_DN_TENSION, P_DT, P_MU, S_AREA_CORRECTION, S_CONTACT_OFFSET,
     S_EDGE_CUTOFF, S_FORCE_LIMIT, S_HPERP, S_LUMP_CONSERVE, S_MASS_TOL, S_NORMAL,
@@ -155,6 +155,54 @@ def _node_normal(i, a, b_law, g_a, g_b, om_a, om_b, a_rigid, b_rigid, settings, 
     for k in range(out.shape[0]):
         out[k] *= s
     return True
+
+
+@njit(cache=True)
+def _rigid_normal(g_a, g_r, om_r, cell, settings, out) -> bool:
+    """Normal from a deformable field to a rigid partner: the rigid body's own surface
+    normal -g_r (000 Sec 2.5, RMVG; NairnMPM prefers the rigid gradient), turned to
+    point the way the deformable field's outward gradient g_a points (out of a, into
+    the rigid body). Without the turn a node beyond the mid-plane of a rigid body one
+    or two cells thick sees g_r pointing out of the far face; the grid normals (AG:
+    g_a - g_r, nearly parallel vectors cancel) then lay the normal along the face and
+    the frictionless tangential motion carried the deformable field through the body
+    (004 Fig 6 piston, found by tracing the first particle above it). A specified
+    normal (SN) is kept; False when the rigid field has no gradient at the node (inside
+    a rigid body its gradient is round-off: |g_r| below 1e-6 of Omega_r / dx)."""
+    method = int(settings[S_NORMAL])
+    if method == NORMAL_SN or method == NORMAL_SN_RADIAL:
+        return False
+    if not (math.sqrt(_dot(g_r, g_r)) > 1.0e-6 * om_r / cell[0]):
+        return False
+    for k in range(out.shape[0]):
+        out[k] = -g_r[k]
+    if _dot(out, g_a) < 0.0:
+        for k in range(out.shape[0]):
+            out[k] = g_r[k]
+    s = _dot(out, out)
+    if not (s > 0.0):
+        return False
+    s = 1.0 / math.sqrt(s)
+    for k in range(out.shape[0]):
+        out[k] *= s
+    return True
+
+
+@njit(cache=True, inline="always")
+def _rigid_order(i, present, npres, vol, rigid, order) -> int:
+    """The rigid fields present at node i, most volume first (into ``order``); their count."""
+    count = 0
+    for j in range(npres):
+        c = present[j]
+        if rigid[c] == 0:
+            continue
+        q = count
+        while q > 0 and vol[i, order[q - 1]] < vol[i, c]:
+            order[q] = order[q - 1]
+            q -= 1
+        order[q] = c
+        count += 1
+    return count
 
 
 @njit(cache=True, inline="always")
@@ -319,7 +367,9 @@ def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force
     om_a = vol[i, a]
     if om_a + om_b < settings[S_EDGE_CUTOFF] * tvol:      # edge-node screening (000 Sec 3)
         return False
-    if not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings, lr_normal, n):
+    if not (rigid_b and _rigid_normal(grad[i, a], g_b, om_b, cell, settings, n)) and \
+            not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings,
+                             lr_normal, n):
         return False
     _jump(i, a, xfield[i, a], x_b, n, cell, origin, nn, settings, lr_sep, df, jump, t_hat)
     dn = _dot(jump, n)
@@ -521,6 +571,7 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
     present = np.empty(m, dtype=np.int64)
     dp = np.zeros((m, d))
     touched = np.zeros(m, dtype=np.bool_)
+    rigid_order = np.empty(m, dtype=np.int64)
     law = np.empty(4)
     one = np.empty(d)
     work = np.empty((13, d))
@@ -536,28 +587,32 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
             touched[present[j]] = False
             for k in range(d):
                 dp[present[j], k] = 0.0
-        # rigid partner (000 Eq 28-31): each non-rigid field against the largest rigid one
-        r = -1
-        rv = -1.0
-        for j in range(npres):
-            c = present[j]
-            if rigid[c] != 0 and vol[i, c] > rv:
-                rv = vol[i, c]
-                r = c
+        # rigid partners (000 Eq 28-31): each non-rigid field against every rigid field
+        # present, most volume first, each correction on the momentum left by the one
+        # before (at a corner of a wall and the piston both hold; against the largest
+        # alone the field left through the other)
+        nrigid = _rigid_order(i, present, npres, vol, rigid, rigid_order)
         any_change = False
-        if r >= 0:
+        if nrigid > 0:
             for j in range(npres):
                 a = present[j]
                 if rigid[a] != 0:
                     continue
-                code = _pair_law(i, a, r, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
-                if _interaction_dp(i, a, r, r, present, npres, phase, mass, mom, force, vol, grad, disp,
-                                   pos, cell, origin, nn, tvol, code, law, settings, True, lr_normal,
-                                   lr_sep, df, dt, one, work):
-                    touched[a] = True
+                for q in range(nrigid):
+                    r = rigid_order[q]
+                    code = _pair_law(i, a, r, kind, params, node_zone, zone_pairs, zone_kind, zone_params,
+                                     law)
+                    if _interaction_dp(i, a, r, r, present, npres, phase, mass, mom, force, vol, grad,
+                                       disp, pos, cell, origin, nn, tvol, code, law, settings, True,
+                                       lr_normal, lr_sep, df, dt, one, work):
+                        touched[a] = True
+                        any_change = True
+                        for k in range(d):
+                            dp[a, k] += one[k]
+                            mom[i, a, k] += one[k]
+                if touched[a]:
                     for k in range(d):
-                        dp[a, k] = one[k]
-                    any_change = True
+                        mom[i, a, k] -= dp[a, k]     # applied once, below, with f_C,1
         elif npres == 2:
             # a field much lighter than its partner gets the change computed on its own
             # side and the heavier one its negative: the stick change m_a v_c - p_a
@@ -682,7 +737,9 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
         if write_out:
             node_out[i, OUT_STATUS] = STATUS_SCREENED
         return 0.0
-    if not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings, lr_normal, n):
+    if not (rigid_b and _rigid_normal(grad[i, a], g_b, om_b, cell, settings, n)) and \
+            not _node_normal(i, a, b_law, grad[i, a], g_b, om_a, om_b, False, rigid_b, settings,
+                             lr_normal, n):
         return 0.0
     h = _jump(i, a, xfield[i, a], x_b, n, cell, origin, nn, settings, lr_sep, df, jump, t_hat)
     area = _contact_area(i, a, b_only, present, npres, om_a, om_b, area_vol, h, settings)

@@ -290,6 +290,64 @@ def test_rigid_partner_keeps_its_velocity():
     np.testing.assert_array_equal(s["momentum"][0, 1], pb)
 
 
+def rigid_contact_state(velocity, gradients, volumes):
+    """One node: a deformable field 0 at ``velocity``, rigid fields 1.. with the given
+    outward volume gradients and volumes (rigid velocities 0, -1 along y, ...)."""
+    n_fields = len(gradients)
+    s = nodal(1, n_fields, 2)
+    s["mass"][0] = 1.0
+    s["volume"][0] = volumes
+    s["volume_gradient"][0] = gradients
+    s["momentum"][0, 0] = velocity
+    for c in range(1, n_fields):
+        s["momentum"][0, c] = (0.0, -float(c - 1))
+    return s
+
+
+def test_thin_rigid_body_holds_a_field_at_a_node_beyond_its_mid_plane():
+    """A deformable field (outward gradient g_a up) pushes up into a rigid plate one cell
+    thick at a node above the plate's mid-plane, where the plate's outward gradient g_r
+    also points up (out of its far face). Frictionless contact must stop the field's
+    normal approach: v_y = the plate's velocity, v_x kept. With the AG normal
+    (g_a - g_r: the vertical parts cancel, n lies nearly along the face) the field kept
+    most of its upward velocity and went through the plate (004 Fig 6 piston)."""
+    case = make_case(2, [(0, 1, CoulombFriction(0.0))])
+    tables = mm.build_pair_tables(case, {"normal": "AG", "separation": "velocity", "rigid_bodies": ["b1"]})
+    s = rigid_contact_state((0.5, 3.0), [(0.3, 1.0), (0.0, 0.9)], (0.4, 0.6))
+    pr = s["momentum"][0, 1].copy()
+    correct(1, s, tables)
+    np.testing.assert_allclose(velocities(s)[0, 0], (0.5, 0.0), atol=1e-12)
+    np.testing.assert_array_equal(s["momentum"][0, 1], pr)
+
+
+def test_inside_a_rigid_body_its_round_off_gradient_is_not_a_normal():
+    """At a node inside a thick rigid body its volume gradient is round-off; the normal
+    then comes from the method (AG: the deformable field's outward gradient, up), not
+    from the round-off direction (here along x)."""
+    case = make_case(2, [(0, 1, CoulombFriction(0.0))])
+    tables = mm.build_pair_tables(case, {"normal": "AG", "separation": "velocity", "rigid_bodies": ["b1"]})
+    s = rigid_contact_state((0.5, 3.0), [(0.0, 1.0), (1e-20, 0.0)], (0.2, 0.8))
+    correct(1, s, tables)
+    np.testing.assert_allclose(velocities(s)[0, 0], (0.5, 0.0), atol=1e-12)
+
+
+@pytest.mark.parametrize("normal", ["AG", "LR"])
+def test_field_in_a_corner_of_two_rigid_bodies_is_held_by_both(normal):
+    """A deformable field at a node shared by a fixed wall (to its right, larger volume)
+    and a piston above it moving down at 1: frictionless contact with both, v = (0, -1).
+    Against the largest rigid body alone the field kept moving up into the piston."""
+    case = make_case(3, [(0, 1, CoulombFriction(0.0)), (0, 2, CoulombFriction(0.0))])
+    tables = mm.build_pair_tables(case, {"normal": normal, "separation": "velocity",
+                                         "rigid_bodies": ["b1", "b2"]})
+    s = rigid_contact_state((2.0, 3.0), [(1.0, 1.0), (-1.0, 0.0), (0.0, -1.0)], (0.3, 0.5, 0.2))
+    lr = (np.zeros((1, 3, 2)), np.full((1, 3), np.nan))     # no LR plane: the rigid normals
+    mm.correct_momentum(1, s["mass"], s["momentum"], s["force"], s["volume"], s["volume_gradient"],
+                        s["displacement"], s["position"], s["cell"], tables, 1e-3, 1.0,
+                        lr=lr if normal == "LR" else None)
+    np.testing.assert_allclose(velocities(s)[0, 0], (0.0, -1.0), atol=1e-12)
+    np.testing.assert_allclose(velocities(s)[0, 1:], [(0.0, 0.0), (0.0, -1.0)], atol=1e-15)
+
+
 # ---------------------------------------------------------------- interface forces
 
 
