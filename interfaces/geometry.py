@@ -49,14 +49,21 @@ class Shape:
         return p
 
 
+#: largest |coordinate| or size of a shape (mm): beyond it the sums of the geometry
+#: (bounds, corners) overflow or lose all precision
+MAX_COORDINATE = 1e30
+
+
 def _pos(name, v):
-    return check_number(name, v, low=0, low_open=True)
+    return check_number(name, v, low=0, high=MAX_COORDINATE, low_open=True)
 
 
 def _checked(shape, numbers=(), positives=()) -> None:
-    """Validate and store fields of a frozen shape: finite ``numbers``, positive ``positives``."""
+    """Validate and store fields of a frozen shape: ``numbers`` within +-MAX_COORDINATE,
+    ``positives`` in (0, MAX_COORDINATE]."""
     for n in numbers:
-        object.__setattr__(shape, n, check_number(n, getattr(shape, n)))
+        object.__setattr__(shape, n, check_number(n, getattr(shape, n), low=-MAX_COORDINATE,
+                                                  high=MAX_COORDINATE))
     for n in positives:
         object.__setattr__(shape, n, _pos(n, getattr(shape, n)))
 
@@ -192,8 +199,9 @@ class Polygon(Shape):
             v = np.asarray(self.vertices, dtype=float)
         except (TypeError, ValueError):
             raise CaseError(f"vertices must be a list of [x, y] pairs, got {self.vertices!r}") from None
-        if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3 or not np.all(np.isfinite(v)):
-            raise CaseError(f"vertices must be at least 3 finite [x, y] pairs, got {self.vertices!r}")
+        if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3 or not np.all(np.abs(v) <= MAX_COORDINATE):
+            raise CaseError(f"vertices must be at least 3 [x, y] pairs within +-{MAX_COORDINATE:g} mm, "
+                            f"got {self.vertices!r}")
         if abs(_polygon_area(v)) == 0:
             raise CaseError("vertices enclose no area")
         object.__setattr__(self, "vertices", tuple(tuple(map(float, p)) for p in v))

@@ -36,6 +36,7 @@ BAD_EDITS = [
     (lambda d: d["interfaces"][1]["law"].__setitem__("Dt", "soft"), "interfaces[1].law.Dt"),
     (lambda d: d["bodies"][1]["shape"].__setitem__("width", 0.0), "bodies[1].shape.width"),
     (lambda d: d["bodies"][0].__setitem__("material", "steel"), "bodies[0].material"),
+    (lambda d: d["bodies"][1]["shape"].__setitem__("x0", 1.7e308), "bodies[1].shape.x0"),
     (lambda d: d["boundary_conditions"][0].__setitem__("side", "top"), "boundary_conditions[0].side"),
     (lambda d: d["boundary_conditions"][1].__setitem__("body", "nobody"), "boundary_conditions[1].body"),
     (lambda d: d.__setitem__("analysis", "plane"), "analysis"),
