@@ -179,10 +179,7 @@ def _rigid_normal(g_a, g_r, om_r, cell, settings, out) -> bool:
     if _dot(out, g_a) < 0.0:
         for k in range(out.shape[0]):
             out[k] = g_r[k]
-    s = _dot(out, out)
-    if not (s > 0.0):
-        return False
-    s = 1.0 / math.sqrt(s)
+    s = 1.0 / math.sqrt(_dot(out, out))      # > 0: |g_r| passed the test above
     for k in range(out.shape[0]):
         out[k] *= s
     return True
