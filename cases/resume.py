@@ -59,8 +59,15 @@ class RunRecord:
 
     def with_mpm_checkpoint(self, options: dict, resume: bool) -> dict:
         """``options`` with MPM saving its state here (and continuing from it)."""
-        out = {k: dict(v) for k, v in options.items()}
-        mpm = out.setdefault("mpm", {})
-        mpm.setdefault("checkpoint", str(self.folder / "mpm.npz"))
-        mpm["resume"] = resume
-        return out
+        return with_mpm_checkpoint(options, self.folder / "mpm.npz", resume)
+
+
+def with_mpm_checkpoint(options: dict, path: Path, resume: bool) -> dict:
+    """Per-method ``options`` with MPM saving its state to ``path`` every few minutes and
+    on Ctrl-C, and continuing from it when ``resume`` (a checkpoint option given by the
+    user is kept)."""
+    out = {k: dict(v) for k, v in options.items()}
+    mpm = out.setdefault("mpm", {})
+    mpm.setdefault("checkpoint", str(path))
+    mpm["resume"] = resume
+    return out

@@ -5,7 +5,9 @@ Nothing finished is lost: with ``record_dir`` each point is written to
 ``record_dir/points/point_NNN.json`` the moment it finishes (atomically), a point whose
 method fails records the error and the sweep carries on, and ``resume=True`` runs only
 the points that have no record yet (after an interrupt), giving the same numbers as an
-uninterrupted sweep.
+uninterrupted sweep. A point that runs MPM saves the solver's state next to its record
+(``point_NNN.mpm.npz``, every few minutes and on Ctrl-C: mpm/checkpoint.py) and, resumed,
+continues from it: an interrupted hours-long point is not started again.
 """
 from __future__ import annotations
 
@@ -26,6 +28,7 @@ from interfaces.case import encode_values
 from .methods import resolve_methods, run
 from .output import atomic_write_text
 from .registry import build
+from .resume import with_mpm_checkpoint
 
 SPEC_FILE = "sweep_spec.json"
 
@@ -198,11 +201,15 @@ def sweep(case_name: str, param: str, values, methods="all", fixed: dict | None 
     count = n * len(curves)
     points = _prepare_record(record, spec, resume, count) if record is not None else [None] * count
     todo = [k for k, p in enumerate(points) if p is None]
-    tasks = {k: (case_name, {**overrides[k // n], param: values[k % n]}, mlist, options) for k in todo}
+    keep_state = record is not None and dask_address is None and "mpm" in mlist
+    tasks = {k: (case_name, {**overrides[k // n], param: values[k % n]}, mlist,
+                 with_mpm_checkpoint(options, _mpm_state(record, k), resume) if keep_state else options)
+             for k in todo}
 
     def finished(k: int, point: dict) -> None:
         points[k] = point
         if record is not None:
+            _mpm_state(record, k).unlink(missing_ok=True)
             data = {"index": k, "value": encode_values(values[k % n]), "point": point}
             if _named(curves):
                 data["curve"] = list(curves)[k // n]
@@ -257,6 +264,11 @@ def load_spec(record_dir) -> dict:
         raise CaseError(f"--resume {record_dir}: {SPEC_FILE} is not valid JSON ({e})") from None
 
 
+def _mpm_state(record: Path, k: int) -> Path:
+    """The MPM checkpoint of point ``k`` while it runs."""
+    return record / "points" / f"point_{k:03d}.mpm.npz"
+
+
 def _prepare_record(record: Path, spec: dict, resume: bool, count: int) -> list:
     points: list = [None] * count
     (record / "points").mkdir(parents=True, exist_ok=True)
@@ -274,7 +286,7 @@ def _prepare_record(record: Path, spec: dict, resume: bool, count: int) -> list:
             except (OSError, ValueError, KeyError, IndexError, TypeError):
                 continue            # a damaged record is simply run again
     else:
-        for f in (record / "points").glob("point_*.json"):
+        for f in (record / "points").glob("point_*"):
             f.unlink()
         atomic_write_text(spec_path, json.dumps(spec, indent=1, default=str))
     return points

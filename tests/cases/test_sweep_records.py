@@ -80,3 +80,22 @@ def test_point_with_a_bug_is_recorded_not_raised(monkeypatch):
     monkeypatch.setattr(sweep_module, "run", broken)
     sw = sweep("dcb", "Dn", [1.0], methods="analytic", workers=1)
     assert sw.errors()[0].startswith("Dn=1.0 analytic: ZeroDivisionError: float division by zero (at ")
+
+
+def test_interrupted_mpm_point_resumes_from_its_checkpoint(tmp_path, interrupt_mpm):
+    """An MPM point interrupted mid-run keeps its solver state next to the record and the
+    resumed sweep continues it to the numbers of an uninterrupted sweep, bit for bit."""
+    kw = dict(methods="mpm", fixed={"mpm_cell": 1.0}, workers=1)
+    reference = sweep("two_layer", "Dt", [5.0, 50.0], **kw)
+    rec = tmp_path / "rec"
+    patch = interrupt_mpm(4)
+    with pytest.raises(KeyboardInterrupt):
+        sweep("two_layer", "Dt", [5.0, 50.0], record_dir=rec, **kw)
+    patch.undo()
+    state = rec / "points" / "point_000.mpm.npz"
+    assert state.exists() and not (rec / "points" / "point_000.json").exists()
+    resumed = sweep("two_layer", "Dt", [5.0, 50.0], record_dir=rec, resume=True, **kw)
+    assert not state.exists()
+    for i in range(2):
+        mine, ref = resumed.points[i]["mpm"]["quantities"], reference.points[i]["mpm"]["quantities"]
+        assert mine == ref, i
