@@ -6,7 +6,8 @@ The series S+_alpha S mixes each field's velocities over neighbouring nodes, so 
 contact node v~ no longer obeys the contact law that v+ obeys there: a field pressed
 against another (or against a rigid body) regains part of its approach velocity from
 the nodes behind it and its particles move into the partner's domain (a bar striking
-a rigid wall went 0.032 cell into it with XPIC(5), against 0.003 with FLIP).
+a rigid wall went 0.031 cell into it with XPIC(5), against 0.003 with FLIP; two
+colliding bars overlapped 0.073 cell, against 0.009).
 
 Here v~ is corrected once, after the series, on the step's multimaterial nodes, as v+
 was by the second contact correction (004 Eq 31: normals and separations of the step,
@@ -27,9 +28,10 @@ Only the laws that are contact conditions are applied to v~ (:func:`contact_laws
 Left out are perfect bonds between deformable fields and every finite interface
 stiffness. A perfect bond is not a contact condition but the single-body limit: the
 corrected multimaterial series (Eq 37, 47) is what makes bonded fields follow
-single-material XPIC(m), and forcing the fields onto their centre-of-mass v~ adds a
-PIC-like mixing across the bond that single-material XPIC does not have (the bonded
-split bar of tests/mpm/test_mpm_xpic.py then departs by 3.4e-4 V0, beyond its 3e-4).
+single-material XPIC(m); forcing the fields onto their centre-of-mass v~ at every
+bonded node changes that result (the bonded split bar of tests/mpm/test_mpm_xpic.py then departs from the one-body bar by 3.4e-4 of
+the peak stress near the interface, where the corrected series alone keeps it below
+3e-4).
 An imperfect interface's spring traction (000 Eq 17-27) is already in a_alpha, hence
 in the a_alpha dt of v~: correcting v~ for it would count it twice. Its bonded
 directions (D = inf in tension, or tangentially) are left as perfect bonds are.
