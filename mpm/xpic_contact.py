@@ -29,9 +29,9 @@ Left out are perfect bonds between deformable fields and every finite interface
 stiffness. A perfect bond is not a contact condition but the single-body limit: the
 corrected multimaterial series (Eq 37, 47) is what makes bonded fields follow
 single-material XPIC(m); forcing the fields onto their centre-of-mass v~ at every
-bonded node changes that result (the bonded split bar of tests/mpm/test_mpm_xpic.py then departs from the one-body bar by 3.4e-4 of
-the peak stress near the interface, where the corrected series alone keeps it below
-3e-4).
+bonded node changes that result (the bonded split bar of tests/mpm/test_mpm_xpic.py
+then departs from the one-body bar by 3.4e-4 of the peak stress near the interface,
+where the corrected series alone keeps it below 3e-4).
 An imperfect interface's spring traction (000 Eq 17-27) is already in a_alpha, hence
 in the a_alpha dt of v~: correcting v~ for it would count it twice. Its bonded
 directions (D = inf in tension, or tangentially) are left as perfect bonds are.
