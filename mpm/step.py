@@ -391,7 +391,7 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
     if multi:
         phase_contact(1, ctl, grid, nd, pairs, nodes)
         wbc += phase_bonded_conditions(ctl, nd, bc, pairs, vel, True)
-    phase_xpic_grid(ctl, pt, grid, nd, bc)
+    phase_xpic_grid(ctl, pt, grid, nd, bc, pairs, nodes)
     ke, U, work, lost, ke_grid = phase_g2p(ctl, pt, grid, nd, blocks, scale)
     if lost >= 0:
         return lost

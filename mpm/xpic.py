@@ -49,6 +49,7 @@ from numba import njit
 from .cpdi import is_cpdi, shape_cpdi
 from .kernels import nodal_kinematics
 from .shape import axis_weights3
+from .xpic_contact import contact_grid_velocity
 
 #: slots of ``NodalState.xpic``
 V0, DV, VK, DK, VN, DN, VS = range(7)
@@ -401,9 +402,10 @@ def phase_xpic_start(ctl, nd) -> None:
 
 
 @njit(cache=True, inline="always")
-def phase_xpic_grid(ctl, pt, grid, nd, bc) -> None:
-    """Before G2P: the XPIC(m) grid velocity v~ (004 Eq 41-44; m = 1: v+) and its
-    extrapolations to the particles."""
+def phase_xpic_grid(ctl, pt, grid, nd, bc, pairs, nodes) -> None:
+    """Before G2P: the XPIC(m) grid velocity v~ (004 Eq 41-44; m = 1: v+), held to the
+    contact conditions of ``pairs`` on the multimaterial ``nodes`` (mpm/xpic_contact.py),
+    and its extrapolations to the particles."""
     if ctl.xpic < 1:
         return
     nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
@@ -429,6 +431,10 @@ def phase_xpic_grid(ctl, pt, grid, nd, bc) -> None:
         xpic_grid_velocity(ctl.xpic, corrected, pt.x, pt.mass, pt.field, grid.origin,
                            grid.cell, grid.nn, pt.lp, grid.kind, mass, nd.acceleration, ctl.dt,
                            nd.xpic, base, wts, lists)
+        if nodes.size:
+            contact_grid_velocity(nd.xpic[VS], nd.mass, nd.volume, nd.volume_gradient,
+                                  nd.displacement, nd.position, grid.cell, grid.origin, grid.nn,
+                                  pairs, ctl.dt, nodes)
         keep_conditioned(nd.xpic, nd.velocity, bc.node, bc.field, bc.comp, bc.ghost_node,
                          bc.ghost_field)
     gather_particles(pt.x, pt.field, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
