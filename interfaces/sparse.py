@@ -8,6 +8,24 @@ indefinite stiffness. When the pattern of a new matrix equals the previous one t
 symbolic analysis (ordering + symbolic factorisation) is reused and only the numeric
 factorisation is repeated (Newton iterations, load steps, sweeps over a parameter).
 
+For the Newton tangents of a stable material (positive definite once the Dirichlet DOFs
+are removed) ``try_cholesky=True`` factorises by Cholesky (PARDISO matrix type 2) and
+falls back to LDL^T when PARDISO meets a non-positive pivot (MKL error -4), for that
+and every later factorisation of the solver (``method`` says which one ran,
+``stats["cholesky_fallbacks"]`` counts the switches). ``ordering_effort`` (0-10, iparm(2) = 10 L + K,
+documented from oneMKL 2026.0; refused by an older MKL, then run at 0) lets the analysis spend more on supernode
+amalgamation and ordering refinements: a few per cent more flops in larger dense blocks
+that the BLAS runs faster. ``precision="single"`` factorises in float32 (iparm(28) = 1):
+the solves are then accurate only to ~cond(A) 6e-8 and serve as the preconditioner of a
+Krylov method or iterative refinement that works in double precision.
+
+Measured on the CPD tangent at 100 x 100 points, delta = 3.01 h, set 3 (19.6k equations,
+4.2M stored entries; ``benchmarks/bench_cpd.py``, one core, CPU seconds, 2 runs):
+METIS LDL^T 0.59-0.66 s (15.0 GFlop), Cholesky 0.56-0.64 s, Cholesky with effort 1-2
+0.46-0.54 s (15.8 GFlop), effort 4-7 0.50-0.53 s (17-18 GFlop); minimum degree 0.58-0.65 s
+(18 GFlop); parallel METIS (iparm(2) = 3) as METIS on one core; single precision
+Cholesky with effort 1 0.27-0.30 s (relative residual of one solve 2e-6).
+
 SuperLU (scipy) in symmetric mode with minimum-degree ordering on A^T + A is the
 fallback, taken when pypardiso is missing or MKL cannot be loaded, or on request
 (``kind="superlu"``). ``DirectSolver.name`` says which one ran; solvers put it in
@@ -23,11 +41,16 @@ import scipy.sparse.linalg as spla
 
 KINDS = ("auto", "pardiso", "superlu")
 ORDERINGS = (None, "minimum_degree", "metis")
+PRECISIONS = ("double", "single")
 _PARDISO_ORDERING = {"minimum_degree": 0, "metis": 2}    # PARDISO iparm(2)
 
 
 class SingularMatrixError(RuntimeError):
     """The matrix is exactly singular (a zero pivot)."""
+
+
+class _NotPositiveDefinite(Exception):
+    """PARDISO's Cholesky met a non-positive pivot."""
 
 
 def pardiso_available() -> bool:
@@ -72,34 +95,62 @@ class DirectSolver:
     ``kind``: ``"auto"`` (PARDISO if available, else SuperLU), ``"pardiso"`` (error if
     unavailable) or ``"superlu"``. ``positive_definite=True`` lets PARDISO use Cholesky
     (matrix type 2); the default is symmetric indefinite LDL^T (type -2), needed for the
-    saddle points of negative interface parameters (002 Eq 52).
+    saddle points of negative interface parameters (002 Eq 52). ``try_cholesky=True``
+    (PARDISO only) factorises by Cholesky while the matrices are positive definite and by
+    LDL^T from the first one that is not (``method``, ``stats["cholesky_fallbacks"]``).
 
     ``ordering`` (PARDISO only): ``None`` keeps MKL's defaults (nested dissection by
     METIS); ``"minimum_degree"`` makes the symbolic analysis ~2.5x faster on the 2D FEM
     matrices here (264k equations: 0.8 s instead of 2.2 s) at equal factorisation time;
     ``"metis"`` asks for nested dissection explicitly. Either explicit choice also sets
-    Bunch-Kaufman pivoting with 1e-8 pivot perturbation (MKL's symmetric defaults).
+    Bunch-Kaufman pivoting with 1e-8 pivot perturbation (MKL's symmetric defaults), and
+    then ``ordering_effort`` (0-10) and ``precision`` (``"double"`` or ``"single"``) apply
+    (module docstring).
     """
 
-    def __init__(self, kind: str = "auto", positive_definite: bool = False, ordering: str | None = None):
+    def __init__(self, kind: str = "auto", positive_definite: bool = False, ordering: str | None = None,
+                 try_cholesky: bool = False, ordering_effort: int = 0, precision: str = "double"):
         if kind not in KINDS:
             raise ValueError(f"solver must be one of {', '.join(KINDS)}, got {kind!r}")
         if ordering not in ORDERINGS:
             raise ValueError(f"ordering must be one of {', '.join(map(str, ORDERINGS))}, got {ordering!r}")
+        if isinstance(ordering_effort, bool) or not isinstance(ordering_effort, (int, np.integer)) \
+                or not 0 <= ordering_effort <= 10:
+            raise ValueError(f"ordering_effort must be an integer in [0, 10], got {ordering_effort!r}")
+        if precision not in PRECISIONS:
+            raise ValueError(f"precision must be one of {', '.join(PRECISIONS)}, got {precision!r}")
+        if (ordering_effort or precision != "double") and ordering is None:
+            raise ValueError("ordering_effort and precision need an explicit ordering "
+                             f"({', '.join(map(str, ORDERINGS[1:]))})")
         cls = _load_pardiso() if kind in ("auto", "pardiso") else None
         if kind == "pardiso" and cls is None:
             raise ValueError("solver 'pardiso' is not available here (pip install pypardiso); "
                              "use 'auto' or 'superlu'")
         self.name = "pardiso" if cls is not None else "superlu"
-        self._pardiso = cls(mtype=2 if positive_definite else -2) if cls is not None else None
-        if self._pardiso is not None and ordering is not None:
-            for i, value in ((1, 1), (2, _PARDISO_ORDERING[ordering]), (10, 8), (21, 1)):
-                self._pardiso.set_iparm(i, value)       # iparm(1) = 1: use the values given
-        self._pattern: tuple[np.ndarray, np.ndarray] | None = None
+        self._cls = cls
+        self._ordering = ordering
+        self._effort = int(ordering_effort)
+        self._dtype = np.float32 if precision == "single" and cls is not None else np.float64
+        self.try_cholesky = bool(try_cholesky) and cls is not None
+        self._mtype = 2 if (positive_definite or self.try_cholesky) else -2
+        self._handles: dict = {}         # PARDISO matrix type -> (PyPardisoSolver, analysed pattern)
+        self._pardiso = self._handle(self._mtype) if cls is not None else None
         self._upper: sp.csr_matrix | None = None
         self._lu = None
         self.n = 0
-        self.stats = {"analyses": 0, "factorizations": 0, "solves": 0}
+        self.method = "cholesky" if self._mtype == 2 else "ldlt"
+        self.stats = {"analyses": 0, "factorizations": 0, "solves": 0, "cholesky_fallbacks": 0}
+
+    def _handle(self, mtype: int):
+        """The PARDISO instance of matrix type ``mtype`` (created with this solver's iparm)."""
+        if mtype not in self._handles:
+            solver = self._cls(mtype=mtype)
+            if self._ordering is not None:
+                order = 10 * self._effort + _PARDISO_ORDERING[self._ordering]
+                for i, value in ((1, 1), (2, order), (10, 8), (21, 1), (28, int(self._dtype == np.float32))):
+                    solver.set_iparm(i, value)  # iparm(1) = 1: use the values given
+            self._handles[mtype] = [solver, None]
+        return self._handles[mtype][0]
 
     # -- factorisation -------------------------------------------------------------
     def factorize(self, A: sp.spmatrix) -> None:
@@ -121,24 +172,50 @@ class DirectSolver:
             upper = (upper + sp.csr_matrix((np.zeros(missing.size), (missing, missing)),
                                            shape=upper.shape)).tocsr()
             upper.sort_indices()
-        same = (self._pattern is not None and self._pattern[0].shape == upper.indptr.shape
-                and np.array_equal(self._pattern[0], upper.indptr)
-                and np.array_equal(self._pattern[1], upper.indices))
-        solver = self._pardiso
+        if self._dtype != np.float64:
+            upper = sp.csr_matrix((upper.data.astype(self._dtype), upper.indices, upper.indptr), shape=upper.shape)
+        try:
+            self._numeric(self._mtype, upper)
+        except _NotPositiveDefinite:
+            self._mtype = -2             # LDL^T from now on: the next tangents are likely indefinite too
+            self.stats["cholesky_fallbacks"] += 1
+            self._numeric(-2, upper)
+        self._pardiso = self._handle(self._mtype)
+        self.method = "cholesky" if self._mtype == 2 else "ldlt"
+        self._upper = upper
+
+    def _numeric(self, mtype: int, upper: sp.csr_matrix) -> None:
+        """Analysis (when the pattern is new to this matrix type) and numeric factorisation."""
+        solver = self._handle(mtype)
+        pattern = self._handles[mtype][1]
+        same = (pattern is not None and pattern[0].shape == upper.indptr.shape
+                and np.array_equal(pattern[0], upper.indptr) and np.array_equal(pattern[1], upper.indices))
         solver.set_iparm(12, 0)          # CSR, not transposed
-        rhs = np.zeros((self.n, 1), order="F")
+        rhs = np.zeros((self.n, 1), order="F", dtype=self._dtype)
         try:
             if not same:
-                solver.set_phase(11)
-                solver._call_pardiso(upper, rhs)
-                self._pattern = (upper.indptr.copy(), upper.indices.copy())
+                self._analyse(solver, upper, rhs)
+                self._handles[mtype][1] = (upper.indptr.copy(), upper.indices.copy())
                 self.stats["analyses"] += 1
             solver.set_phase(22)
             solver._call_pardiso(upper, rhs)
         except Exception as e:           # PyPardisoError carries MKL's error code
-            self._pattern = None
+            self._handles[mtype][1] = None
+            if mtype == 2 and self.try_cholesky and getattr(e, "value", None) == -4:
+                raise _NotPositiveDefinite() from None
             raise SingularMatrixError(f"PARDISO factorisation failed ({e})") from None
-        self._upper = upper
+
+    def _analyse(self, solver, upper: sp.csr_matrix, rhs: np.ndarray) -> None:
+        solver.set_phase(11)
+        try:
+            solver._call_pardiso(upper, rhs)
+        except Exception:
+            if self._effort == 0:
+                raise
+            # an MKL without the effort digit of iparm(2): plain ordering
+            self._effort = 0
+            solver.set_iparm(2, _PARDISO_ORDERING[self._ordering])
+            solver._call_pardiso(upper, rhs)
 
     def _factorize_superlu(self, A: sp.csr_matrix) -> None:
         if self.n == 0:
@@ -160,10 +237,10 @@ class DirectSolver:
             return np.zeros_like(b)
         if self._pardiso is None:
             return self._lu.solve(b)
-        rhs = np.asfortranarray(b.reshape(self.n, -1))
+        rhs = np.asfortranarray(b.reshape(self.n, -1), dtype=self._dtype)
         self._pardiso.set_phase(33)
         x = self._pardiso._call_pardiso(self._upper, rhs)
-        return x.reshape(b.shape)
+        return x.reshape(b.shape).astype(np.float64, copy=False)
 
     def negative_pivots(self) -> int:
         """Number of negative pivots of the last factorisation (the matrix's negative
@@ -171,22 +248,23 @@ class DirectSolver:
         if self.n == 0:
             return 0
         if self._pardiso is not None:
-            return int(self._pardiso.get_iparm(23))
+            return 0 if self.method == "cholesky" else int(self._pardiso.get_iparm(23))
         lu = self._lu
         return int(np.sum(lu.U.diagonal() < 0)) if np.all(lu.perm_r == lu.perm_c) else -1
 
     def release(self) -> None:
         """Free the factors (PARDISO keeps them in MKL-managed memory)."""
-        if getattr(self, "_pardiso", None) is not None and self._pattern is not None:
-            try:
-                self._pardiso.free_memory(everything=True)
-            except Exception:
-                pass
-            self._pattern = None
+        for entry in getattr(self, "_handles", {}).values():
+            if entry[1] is not None:
+                try:
+                    entry[0].free_memory(everything=True)
+                except Exception:
+                    pass
+                entry[1] = None
         self._lu = None
 
     def __del__(self):
         self.release()
 
 
-__all__ = ["DirectSolver", "SingularMatrixError", "pardiso_available", "KINDS", "ORDERINGS"]
+__all__ = ["DirectSolver", "SingularMatrixError", "pardiso_available", "KINDS", "ORDERINGS", "PRECISIONS"]
