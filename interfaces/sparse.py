@@ -89,6 +89,53 @@ def _upper_triangle(A: sp.csr_matrix) -> sp.csr_matrix:
     return sp.csr_matrix((A.data[keep], A.indices[keep], indptr), shape=A.shape)
 
 
+def _with_diagonal(upper: sp.csr_matrix) -> sp.csr_matrix:
+    """``upper`` with every diagonal entry stored (PARDISO needs them, even zero ones)."""
+    rows = np.repeat(np.arange(upper.shape[0]), np.diff(upper.indptr))
+    stored = np.zeros(upper.shape[0], dtype=bool)
+    stored[rows[upper.indices == rows]] = True
+    missing = np.flatnonzero(~stored)
+    if missing.size:                     # through coo: a csr sum would drop the explicit zeros
+        upper = sp.csr_matrix((np.concatenate([upper.data, np.zeros(missing.size, upper.dtype)]),
+                               (np.concatenate([rows, missing]), np.concatenate([upper.indices, missing]))),
+                              shape=upper.shape)
+        upper.sum_duplicates()
+    return upper
+
+
+class _PardisoInput:
+    """The PARDISO input of a symmetric csr matrix: its upper triangle with the whole diagonal
+    stored, in the working precision. For a matrix in canonical form the positions of those
+    entries among the stored ones are kept, so that the next matrix of the same pattern (a
+    Newton tangent) costs one gather instead of the triangle's extraction (20 ms of a 0.3 s
+    factorisation at 100 x 100 CPD points)."""
+
+    def __init__(self, dtype):
+        self.dtype = dtype
+        self._pattern = None             # (indptr, indices) of the last canonical input
+        self._source = None              # position in A.data of each stored upper entry, -1: added zero
+
+    def __call__(self, A: sp.csr_matrix) -> sp.csr_matrix:
+        if self._pattern is not None and A.indptr.shape == self._pattern[0].shape \
+                and np.array_equal(A.indptr, self._pattern[0]) and np.array_equal(A.indices, self._pattern[1]):
+            data = A.data[self._source].astype(self.dtype)
+            data[self._added] = 0.0
+            return sp.csr_matrix((data, self._upper_indices, self._upper_indptr), shape=A.shape)
+        if not A.has_canonical_format:
+            self._pattern = None
+            upper = _with_diagonal(_upper_triangle(A))
+            return sp.csr_matrix((upper.data.astype(self.dtype), upper.indices, upper.indptr), shape=A.shape)
+        # the same extraction applied to the entries' positions (+1: an added diagonal is 0)
+        where = sp.csr_matrix((np.arange(1.0, A.nnz + 1.0), A.indices, A.indptr), shape=A.shape)
+        upper = _with_diagonal(_upper_triangle(where))
+        source = upper.data.astype(np.int64) - 1
+        self._added = np.flatnonzero(source < 0)
+        self._source = np.maximum(source, 0)
+        self._upper_indptr, self._upper_indices = upper.indptr, upper.indices
+        self._pattern = (A.indptr.copy(), A.indices.copy())
+        return self(A)
+
+
 class DirectSolver:
     """Factorise a sparse symmetric matrix once, solve many right-hand sides.
 
@@ -134,6 +181,7 @@ class DirectSolver:
         self.try_cholesky = bool(try_cholesky) and cls is not None
         self._mtype = 2 if (positive_definite or self.try_cholesky) else -2
         self._handles: dict = {}         # PARDISO matrix type -> (PyPardisoSolver, analysed pattern)
+        self._input = _PardisoInput(self._dtype)
         self._pardiso = self._handle(self._mtype) if cls is not None else None
         self._upper: sp.csr_matrix | None = None
         self._lu = None
@@ -165,15 +213,7 @@ class DirectSolver:
         self.stats["factorizations"] += 1
 
     def _factorize_pardiso(self, A: sp.csr_matrix) -> None:
-        upper = _upper_triangle(A)
-        # PARDISO needs every diagonal entry stored, even a zero one
-        missing = np.flatnonzero(upper.diagonal() == 0)
-        if missing.size:
-            upper = (upper + sp.csr_matrix((np.zeros(missing.size), (missing, missing)),
-                                           shape=upper.shape)).tocsr()
-            upper.sort_indices()
-        if self._dtype != np.float64:
-            upper = sp.csr_matrix((upper.data.astype(self._dtype), upper.indices, upper.indptr), shape=upper.shape)
+        upper = self._input(A)
         try:
             self._numeric(self._mtype, upper)
         except _NotPositiveDefinite:

@@ -151,3 +151,36 @@ def test_bad_factorisation_options_refused():
         DirectSolver("auto", ordering="metis", precision="half")
     with pytest.raises(ValueError, match="need an explicit ordering"):
         DirectSolver("auto", precision="single")
+
+
+def _upper_nnz(S):
+    coo = S.tocoo()
+    return int(np.sum(coo.col >= coo.row))
+
+
+@needs_pardiso
+def test_same_pattern_input_reused_with_missing_diagonal_entries():
+    """A saddle-point matrix without stored diagonal in its constraint block, factorised again
+    with new values of the same pattern (the kept positions of the upper triangle) and then
+    in a non-canonical entry order: every solve exact."""
+    rng = np.random.default_rng(3)
+    A = _spd(6)
+    m = 10
+    B = sp.random(m, A.shape[0], density=0.2, random_state=4, format="csr")
+    B = (B + sp.eye(m, A.shape[0])).tocsr()
+    S = sp.bmat([[A, B.T], [B, None]], format="csr")
+    S.sort_indices()
+    b = rng.random(S.shape[0])
+    s = DirectSolver("pardiso", ordering="metis")
+    for scale in (1.0, 3.0):
+        M = (scale * S).tocsr()
+        s.factorize(M)
+        assert np.linalg.norm(M @ s.solve(b) - b) <= 1e-10 * np.linalg.norm(b)
+    assert s.stats["analyses"] == 1
+    assert np.all(s._upper.diagonal()[A.shape[0]:] == 0) and s._upper.nnz == _upper_nnz(S) + m   # zeros stored
+    perm = rng.permutation(S.nnz)                     # same entries, rows' order shuffled
+    rows = np.repeat(np.arange(S.shape[0]), np.diff(S.indptr))
+    shuffled = sp.csr_matrix((S.data[perm], (rows[perm], S.indices[perm])), shape=S.shape)
+    shuffled = sp.csr_matrix((shuffled.data, shuffled.indices, shuffled.indptr), shape=S.shape)
+    s.factorize(shuffled)
+    assert np.linalg.norm(S @ s.solve(b) - b) <= 1e-10 * np.linalg.norm(b)
