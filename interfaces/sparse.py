@@ -10,21 +10,40 @@ factorisation is repeated (Newton iterations, load steps, sweeps over a paramete
 
 For the Newton tangents of a stable material (positive definite once the Dirichlet DOFs
 are removed) ``try_cholesky=True`` factorises by Cholesky (PARDISO matrix type 2) and
-falls back to LDL^T when PARDISO meets a non-positive pivot (MKL error -4), for that
-and every later factorisation of the solver (``method`` says which one ran,
-``stats["cholesky_fallbacks"]`` counts the switches). ``ordering_effort`` (0-10, iparm(2) = 10 L + K,
-documented from oneMKL 2026.0; refused by an older MKL, then run at 0) lets the analysis spend more on supernode
-amalgamation and ordering refinements: a few per cent more flops in larger dense blocks
-that the BLAS runs faster. ``precision="single"`` factorises in float32 (iparm(28) = 1):
-the solves are then accurate only to ~cond(A) 6e-8 and serve as the preconditioner of a
-Krylov method or iterative refinement that works in double precision.
+falls back to LDL^T when PARDISO meets a non-positive pivot (MKL error -4), for that and
+every later factorisation of the solver (``method`` says which one ran,
+``stats["cholesky_fallbacks"]`` counts the switches); the FEM keeps LDL^T, whose inertia
+it needs. ``ordering_effort`` L (0-10, iparm(2) = 10 L + K, documented from oneMKL 2026.0;
+an MKL that refuses it runs at 0) lets the analysis amalgamate supernodes and refine the
+ordering: a few per cent more flops in larger dense blocks that the BLAS runs faster.
+``precision="single"`` factorises in float32 (iparm(28) = 1): a solve is then accurate
+only to ~cond(A) 6e-8 and serves as the preconditioner of a Krylov method or an
+iterative refinement that works in double precision (``peridynamics.newton``).
 
-Measured on the CPD tangent at 100 x 100 points, delta = 3.01 h, set 3 (19.6k equations,
-4.2M stored entries; ``benchmarks/bench_cpd.py``, one core, CPU seconds, 2 runs):
-METIS LDL^T 0.59-0.66 s (15.0 GFlop), Cholesky 0.56-0.64 s, Cholesky with effort 1-2
-0.46-0.54 s (15.8 GFlop), effort 4-7 0.50-0.53 s (17-18 GFlop); minimum degree 0.58-0.65 s
-(18 GFlop); parallel METIS (iparm(2) = 3) as METIS on one core; single precision
-Cholesky with effort 1 0.27-0.30 s (relative residual of one solve 2e-6).
+Numeric factorisation of the CPD tangent at 100 x 100 points, delta = 3.01 h, set 3
+(19.6k equations, 4.2M stored entries, rows of ~214), one core, CPU seconds, best of 3,
+measured side by side at load 3-5 (``benchmarks/bench_cpd.py`` has the whole iteration):
+
+=====================================  =========  ===========
+factorisation                          GFlop      CPU s
+=====================================  =========  ===========
+LDL^T, METIS (before)                  15.0       0.59-0.68
+LDL^T, minimum degree                  18.1       0.65
+LDL^T, parallel METIS (iparm(2) = 3)   15.0       0.64
+Cholesky, METIS                        15.0       0.56-0.64
+Cholesky, minimum degree               18.1-18.7  0.58-0.59
+Cholesky, METIS, effort 1-2            15.8       0.46-0.54
+Cholesky, METIS, effort 3-10           17.1-18.2  0.46-0.53
+Cholesky, effort 1, two-level          15.8       0.49-0.56
+LDL^T, METIS, effort 1                 15.8       0.61-0.71
+float32 LDL^T, METIS, effort 1         15.8       0.35-0.36
+float32 Cholesky, METIS, effort 1-5    15.8-18.2  0.26-0.30
+=====================================  =========  ===========
+
+One float32 Cholesky solve leaves a relative residual of 2.3e-6 there, one CG iteration
+7e-11, two 4e-15 (cond ~5.5e3 at 50 x 50 points). Outside PARDISO a factorisation costs the
+extraction of the upper triangle (15-20 ms), replaced by one gather (8 ms) when the
+pattern repeats.
 
 SuperLU (scipy) in symmetric mode with minimum-degree ordering on A^T + A is the
 fallback, taken when pypardiso is missing or MKL cannot be loaded, or on request
