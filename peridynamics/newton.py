@@ -121,23 +121,24 @@ class TangentSolver:
     """K du = r for the Newton tangents of one solve: a direct factorisation, reused as the
     preconditioner of a Krylov solve in the following iterations and load steps.
 
-    Factorisations go through :class:`interfaces.sparse.DirectSolver` (PARDISO LDL^T
-    where it loads, SuperLU otherwise, chosen at run time; ``name`` says which); the
+    Factorisations go through :class:`interfaces.sparse.DirectSolver` (PARDISO where it
+    loads, SuperLU otherwise, chosen at run time; ``name`` says which); the
     reduced tangent keeps one pattern for the whole solve, so the symbolic analysis is
     done once. After a factorisation, later systems are solved with the *current*
     tangent K to the relative residual ``rtol`` asked by the Newton loop (inexact Newton
     forcing term) by preconditioned conjugate gradients (:func:`pcg`) with the old
     factors as preconditioner: two triangular solves and one product with K per
-    iteration instead of a new factorisation (a factorisation costs ~20 triangular
+    iteration instead of a new factorisation (a factorisation costs ~30 triangular
     solves at 100 x 100 CPD points). An indefinite factorisation (negative pivots) uses
     right-preconditioned GMRES instead. The factors are renewed when the Krylov method
     fails, and after any solve that needed more than ``refactor_after`` iterations (the
     tangent has moved away from the factorised one). ``reuse=False`` factorises every
     system.
 
-    The factors are Cholesky while the tangent is positive definite (1.2-1.4x faster than
-    LDL^T at 100 x 100 points), LDL^T from the first tangent that is not (``method`` of the
-    direct solver). ``precision="single"`` factorises in float32 (1.6-1.8x faster again):
+    The factors are Cholesky while the tangent is positive definite (1.1-1.5x faster than
+    LDL^T at 100 x 100 points, ordering effort 1), LDL^T from the first tangent that is not
+    (``method`` of the direct solver). ``precision="single"`` (the default,
+    ``FACTOR_PRECISION``) factorises in float32 (1.6-1.9x faster again):
     the system right after a factorisation is then solved by the same Krylov loop to at
     least ``FRESH_RTOL`` (one CG iteration: 2e-6 -> 7e-11 at 100 x 100 points), as accurate
     as a double-precision solve; when that fails (a tangent too ill-conditioned for float32
