@@ -132,7 +132,8 @@ class _PardisoInput:
     def __init__(self, dtype):
         self.dtype = dtype
         self._pattern = None             # (indptr, indices) of the last canonical input
-        self._source = None              # position in A.data of each stored upper entry, -1: added zero
+        self._source = None              # position in A.data of each stored upper entry
+        self._added = None               # stored upper entries that are added zero diagonals
 
     def __call__(self, A: sp.csr_matrix) -> sp.csr_matrix:
         if self._pattern is not None and A.indptr.shape == self._pattern[0].shape \
@@ -163,7 +164,8 @@ class DirectSolver:
     (matrix type 2); the default is symmetric indefinite LDL^T (type -2), needed for the
     saddle points of negative interface parameters (002 Eq 52). ``try_cholesky=True``
     (PARDISO only) factorises by Cholesky while the matrices are positive definite and by
-    LDL^T from the first one that is not (``method``, ``stats["cholesky_fallbacks"]``).
+    LDL^T from the first one that is not (``method``: ``"cholesky"``, ``"ldlt"``, or
+    ``"lu"`` for SuperLU; ``stats["cholesky_fallbacks"]``).
 
     ``ordering`` (PARDISO only): ``None`` keeps MKL's defaults (nested dissection by
     METIS); ``"minimum_degree"`` makes the symbolic analysis ~2.5x faster on the 2D FEM
@@ -205,7 +207,7 @@ class DirectSolver:
         self._upper: sp.csr_matrix | None = None
         self._lu = None
         self.n = 0
-        self.method = "cholesky" if self._mtype == 2 else "ldlt"
+        self.method = "lu" if cls is None else "cholesky" if self._mtype == 2 else "ldlt"
         self.stats = {"analyses": 0, "factorizations": 0, "solves": 0, "cholesky_fallbacks": 0}
 
     def _handle(self, mtype: int):
