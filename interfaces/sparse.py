@@ -18,7 +18,10 @@ an MKL that refuses it runs at 0) lets the analysis amalgamate supernodes and re
 ordering: a few per cent more flops in larger dense blocks that the BLAS runs faster.
 ``precision="single"`` factorises in float32 (iparm(28) = 1): a solve is then accurate
 only to ~cond(A) 6e-8 and serves as the preconditioner of a Krylov method or an
-iterative refinement that works in double precision (``peridynamics.newton``).
+iterative refinement that works in double precision (``peridynamics.newton``). With
+``try_cholesky`` only the Cholesky factors are float32: the LDL^T after a non-positive
+pivot is double (an indefinite tangent is close to a singular one; ``precision`` says
+which precision the last factorisation used).
 
 Numeric factorisation of the CPD tangent at 100 x 100 points, delta = 3.01 h, set 3
 (19.6k equations, 4.2M stored entries, rows of ~214), one core, CPU seconds, best of 3,
@@ -198,11 +201,11 @@ class DirectSolver:
         self._cls = cls
         self._ordering = ordering
         self._effort = int(ordering_effort)
-        self._dtype = np.float32 if precision == "single" and cls is not None else np.float64
+        self._single = precision == "single" and cls is not None
         self.try_cholesky = bool(try_cholesky) and cls is not None
         self._mtype = 2 if (positive_definite or self.try_cholesky) else -2
         self._handles: dict = {}         # PARDISO matrix type -> (PyPardisoSolver, analysed pattern)
-        self._input = _PardisoInput(self._dtype)
+        self._input = _PardisoInput(np.float64)
         self._pardiso = self._handle(self._mtype) if cls is not None else None
         self._upper: sp.csr_matrix | None = None
         self._lu = None
@@ -210,13 +213,23 @@ class DirectSolver:
         self.method = "lu" if cls is None else "cholesky" if self._mtype == 2 else "ldlt"
         self.stats = {"analyses": 0, "factorizations": 0, "solves": 0, "cholesky_fallbacks": 0}
 
+    def _dtype(self, mtype: int):
+        """Working precision of matrix type ``mtype``: float32 when asked, except for the LDL^T
+        that replaces a failed Cholesky (an indefinite tangent is near a singular one)."""
+        return np.float32 if self._single and (mtype == 2 or not self.try_cholesky) else np.float64
+
+    @property
+    def precision(self) -> str:
+        """Precision of the last factorisation (``"single"`` or ``"double"``)."""
+        return "single" if self._pardiso is not None and self._dtype(self._mtype) == np.float32 else "double"
+
     def _handle(self, mtype: int):
         """The PARDISO instance of matrix type ``mtype`` (created with this solver's iparm)."""
         if mtype not in self._handles:
             solver = self._cls(mtype=mtype)
             if self._ordering is not None:
                 order = 10 * self._effort + _PARDISO_ORDERING[self._ordering]
-                for i, value in ((1, 1), (2, order), (10, 8), (21, 1), (28, int(self._dtype == np.float32))):
+                for i, value in ((1, 1), (2, order), (10, 8), (21, 1), (28, int(self._dtype(mtype) == np.float32))):
                     solver.set_iparm(i, value)  # iparm(1) = 1: use the values given
             self._handles[mtype] = [solver, None]
         return self._handles[mtype][0]
@@ -236,23 +249,27 @@ class DirectSolver:
     def _factorize_pardiso(self, A: sp.csr_matrix) -> None:
         upper = self._input(A)
         try:
-            self._numeric(self._mtype, upper)
+            factored = self._numeric(self._mtype, upper)
         except _NotPositiveDefinite:
             self._mtype = -2             # LDL^T from now on: the next tangents are likely indefinite too
             self.stats["cholesky_fallbacks"] += 1
-            self._numeric(-2, upper)
+            factored = self._numeric(-2, upper)
         self._pardiso = self._handle(self._mtype)
         self.method = "cholesky" if self._mtype == 2 else "ldlt"
-        self._upper = upper
+        self._upper = factored
 
-    def _numeric(self, mtype: int, upper: sp.csr_matrix) -> None:
-        """Analysis (when the pattern is new to this matrix type) and numeric factorisation."""
+    def _numeric(self, mtype: int, upper: sp.csr_matrix) -> sp.csr_matrix:
+        """Analysis (when the pattern is new to this matrix type) and numeric factorisation of
+        ``upper`` in the type's precision (returned: the solves use it)."""
+        dtype = self._dtype(mtype)
+        if dtype != upper.dtype:
+            upper = sp.csr_matrix((upper.data.astype(dtype), upper.indices, upper.indptr), shape=upper.shape)
         solver = self._handle(mtype)
         pattern = self._handles[mtype][1]
         same = (pattern is not None and pattern[0].shape == upper.indptr.shape
                 and np.array_equal(pattern[0], upper.indptr) and np.array_equal(pattern[1], upper.indices))
         solver.set_iparm(12, 0)          # CSR, not transposed
-        rhs = np.zeros((self.n, 1), order="F", dtype=self._dtype)
+        rhs = np.zeros((self.n, 1), order="F", dtype=dtype)
         try:
             if not same:
                 self._analyse(solver, upper, rhs)
@@ -265,6 +282,7 @@ class DirectSolver:
             if mtype == 2 and self.try_cholesky and getattr(e, "value", None) == -4:
                 raise _NotPositiveDefinite() from None
             raise SingularMatrixError(f"PARDISO factorisation failed ({e})") from None
+        return upper
 
     def _analyse(self, solver, upper: sp.csr_matrix, rhs: np.ndarray) -> None:
         solver.set_phase(11)
@@ -298,7 +316,7 @@ class DirectSolver:
             return np.zeros_like(b)
         if self._pardiso is None:
             return self._lu.solve(b)
-        rhs = np.asfortranarray(b.reshape(self.n, -1), dtype=self._dtype)
+        rhs = np.asfortranarray(b.reshape(self.n, -1), dtype=self._upper.dtype)
         self._pardiso.set_phase(33)
         x = self._pardiso._call_pardiso(self._upper, rhs)
         return x.reshape(b.shape).astype(np.float64, copy=False)

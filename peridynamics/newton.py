@@ -142,7 +142,8 @@ class TangentSolver:
     the system right after a factorisation is then solved by the same Krylov loop to at
     least ``FRESH_RTOL`` (one CG iteration: 2e-6 -> 7e-11 at 100 x 100 points), as accurate
     as a double-precision solve; when that fails (a tangent too ill-conditioned for float32
-    factors) the solver factorises in double precision from then on.
+    factors) the solver factorises in double precision from then on. The LDL^T factors of
+    an indefinite tangent are always double precision (its near-zero eigenvalues).
     """
 
     def __init__(self, reuse: bool = True, rtol: float = 1e-12, max_krylov: int = 30, kind: str = "auto",
@@ -234,10 +235,11 @@ class TangentSolver:
                 return x
         self._factor(K)
         if self.reuse:                   # fresh factors: no Krylov iteration in double precision
-            x = self._krylov(K, r, min(rtol, FRESH_RTOL) if self.precision == "single" else rtol)
+            single = self.direct.precision == "single"
+            x = self._krylov(K, r, min(rtol, FRESH_RTOL) if single else rtol)
             if x is not None:
                 return x
-            if self.precision == "single":
+            if single:
                 return self._double_precision_solve(K, r, rtol)
         x = self._back(r)
         # one step of iterative refinement

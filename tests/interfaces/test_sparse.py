@@ -107,17 +107,18 @@ def test_cholesky_equals_ldlt_to_round_off(effort):
 
 
 @needs_pardiso
-def test_cholesky_falls_back_to_ldlt_on_an_indefinite_matrix():
+@pytest.mark.parametrize("precision", ["double", "single"])
+def test_cholesky_falls_back_to_ldlt_on_an_indefinite_matrix(precision):
     A = _spd(10)
     n = A.shape[0]
     shift = float(np.sort(np.linalg.eigvalsh(A.toarray()))[3:5].mean())     # 4 negative eigenvalues
     B = (A - shift * sp.identity(n)).tocsr()
     b = np.ones(n)
-    s = DirectSolver("pardiso", ordering="metis", try_cholesky=True)
+    s = DirectSolver("pardiso", ordering="metis", try_cholesky=True, precision=precision)
     s.factorize(A)
-    assert (s.method, s.stats["cholesky_fallbacks"]) == ("cholesky", 0)
+    assert (s.method, s.stats["cholesky_fallbacks"], s.precision) == ("cholesky", 0, precision)
     s.factorize(B)
-    assert (s.method, s.stats["cholesky_fallbacks"]) == ("ldlt", 1)
+    assert (s.method, s.stats["cholesky_fallbacks"], s.precision) == ("ldlt", 1, "double")
     assert s.negative_pivots() == 4
     assert np.linalg.norm(B @ s.solve(b) - b) <= 1e-10 * np.linalg.norm(b)
     s.factorize(A)                          # LDL^T kept, its analysis reused
@@ -136,7 +137,7 @@ def test_single_precision_factors_refined_in_double():
     s = DirectSolver("pardiso", ordering="metis", try_cholesky=True, precision="single")
     s.factorize(A)
     x = s.solve(b)
-    assert x.dtype == np.float64
+    assert x.dtype == np.float64 and s.precision == "single"
     rel = np.linalg.norm(A @ x - b) / np.linalg.norm(b)
     assert 1e-9 < rel < 1e-3                # float32 factors, cond(A) = 4.2e3: measured 4e-5
     for _ in range(3):                      # iterative refinement, residuals in double
