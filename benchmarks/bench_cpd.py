@@ -2,10 +2,14 @@
 
 One Newton iteration split into its phases: tangent assembly (numba kernels into the
 fixed pattern), reduction to the free DOFs, numeric factorisation (symbolic analysis
-reused: a second factorisation of the same pattern is timed), one triangular solve, one
-product with the tangent; then the iteration as the Newton loop runs it after the first
-one: the next tangent assembled and solved to the inexact-Newton forcing term with the
-factors of the first tangent reused as the Krylov preconditioner; and a whole Newton
+reused: a second factorisation of the same pattern is timed; its method and precision are
+reported), one triangular solve, one product with the tangent, and the linear solve as the
+Newton loop runs it right after a factorisation (factorisation + the CG iterations that
+bring the step to the asked residual: none with double-precision factors, one with float32
+ones); the fresh-factorisation iteration is assembly + reduction + that solve. Then the
+iteration as the Newton loop runs it after the first one: the next tangent assembled and
+solved to the inexact-Newton forcing term with the factors of the first tangent reused as
+the Krylov preconditioner; and a whole Newton
 solve (1 and 3 load steps: iterations, residual history, factorisations, Krylov
 iterations, time per iteration). Three sizes (h = 0.02, 0.0141, 0.01). Times are the
 best of a few repetitions, wall clock and process CPU time (the machine is shared: CPU
@@ -80,15 +84,21 @@ def measure(h: float, delta_factor: float = 3.01) -> dict:
     du = solver.solve(K, -R, rtol=1e-3)                          # first: analysis + factorisation
     row["time_first_factorize_and_solve_s"] = time.perf_counter() - t0
     direct = solver.direct
-    _timed(row, "factorization", lambda: direct.factorize(K), 2)
+    _timed(row, "factorization", lambda: direct.factorize(K), 3)
     _timed(row, "triangular_solve", lambda: direct.solve(-R), 5)
     _timed(row, "matvec", lambda: K @ R, 5)
-    row["time_newton_iteration_fresh_factorization_s"] = (
-        row["time_tangent_assembly_s"] + row["time_reduce_s"] + row["time_factorization_s"]
-        + row["time_triangular_solve_s"])
-    row["cpu_newton_iteration_fresh_factorization_s"] = (
-        row["cpu_tangent_assembly_s"] + row["cpu_reduce_s"] + row["cpu_factorization_s"]
-        + row["cpu_triangular_solve_s"])
+
+    def fresh_solve():                    # as the Newton loop solves after a factorisation
+        solver.factored = False
+        return solver.solve(K, -R, rtol=1e-3)
+
+    x = _timed(row, "fresh_linear_solve", fresh_solve, 3)
+    row["fresh_linear_solve_relative_residual"] = float(np.linalg.norm(K @ x + R) / np.linalg.norm(R))
+    row["factorization_method"] = getattr(direct, "method", "ldlt")
+    row["factor_precision"] = getattr(solver, "precision", "double")
+    for clock in ("time", "cpu"):         # assembly + reduction + factorisation + solve(s)
+        row[f"{clock}_newton_iteration_fresh_factorization_s"] = (
+            row[f"{clock}_tangent_assembly_s"] + row[f"{clock}_reduce_s"] + row[f"{clock}_fresh_linear_solve_s"])
     # the second Newton iteration as the loop runs it: assemble at the new iterate, solve
     # to the forcing term with the factors of the first tangent as preconditioner
     v = u.copy()
@@ -154,7 +164,9 @@ def _line(tag: str, r: dict) -> str:
     n3 = r["newton_3_steps"]
     return (f"{tag} h={r['h']:g} points={r['grid_points']} dofs={r['free_dofs']} nnz={r['reduced_nnz']} "
             f"solver={r['solver']} | cpu: assembly={r['cpu_tangent_assembly_s']:.3f} reduce={r['cpu_reduce_s']:.3f} "
-            f"factor={r['cpu_factorization_s']:.3f} tri-solve={r['cpu_triangular_solve_s']:.4f} "
+            f"factor={r['cpu_factorization_s']:.3f} ({r.get('factorization_method', 'ldlt')}, "
+            f"{r.get('factor_precision', 'double')}) tri-solve={r['cpu_triangular_solve_s']:.4f} "
+            f"fresh-solve={r['cpu_fresh_linear_solve_s']:.3f} "
             f"matvec={r['cpu_matvec_s']:.4f} residual={r['cpu_residual_s']:.3f} "
             f"iteration(fresh)={r['cpu_newton_iteration_fresh_factorization_s']:.3f} "
             f"iteration(reused)={r['cpu_newton_iteration_reused_factors_s']:.3f} "

@@ -22,7 +22,10 @@ Model (see the module docstrings for the equations):
 * ``newton``: load steps, Newton-Raphson on the free-DOF residual normalised by its first
   value in each step (003 Table 3, tol 1e-11), line search, step bisection, SolverError;
   linear solves by ``interfaces.sparse.DirectSolver`` (PARDISO or SuperLU, chosen at run
-  time, named in ``diagnostics["linear_solver"]["solver"]``) with the symbolic analysis reused.
+  time, named in ``diagnostics["linear_solver"]["solver"]``) with the symbolic analysis reused:
+  float32 Cholesky factors of the positive definite tangent refined by CG, LDL^T from the
+  first indefinite one (``["factorization"]``, ``["cholesky_fallbacks"]``), double precision
+  when CG fails with float32 factors (``["precision_fallbacks"]``).
 
 Public surface: :func:`solve` (Case -> Result) and the parameter conversions.
 Units: mm, N, MPa; 2D quantities are per unit thickness times ``case.thickness``.
