@@ -10,7 +10,7 @@ another ellipse (``interpenetration``) in black, and per method the final stress
 interpenetration count and the run time (wall and CPU).
 
     PYTHONPATH=. python docs/contact/ellipse_compaction_fig6.py --cell 0.05
-    PYTHONPATH=. python docs/contact/ellipse_compaction_fig6.py --cell 0.0143 --option shape=cpdi --option xpic=5
+    PYTHONPATH=. python docs/contact/ellipse_compaction_fig6.py --cell 0.0143 --option shape=cpdi --option xpic=5 --option update=usl
 """
 from __future__ import annotations
 
