@@ -192,6 +192,10 @@ def sweep(case_name: str, param: str, values, methods="all", fixed: dict | None 
     overrides = [{**fixed, **over} for over in curves.values()]
     first = [build(case_name, **over, **{param: values[0]}) for over in overrides]  # checks every curve's input
     mlist = resolve_methods(first[0], methods)
+    own = sorted({"checkpoint", "resume"} & set(options.get("mpm", {})))
+    if own:                              # one file for every point would mix their states
+        raise CaseError(f"mpm option {', '.join(own)} is not for sweeps: each point keeps its own "
+                        "MPM state in the sweep's --out folder and --resume continues it")
     spec = {"case": case_name, "param": param, "values": encode_values(values), "methods": mlist,
             "fixed": encode_values(fixed), "options": encode_values(options)}
     if _named(curves):

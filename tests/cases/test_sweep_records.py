@@ -8,7 +8,7 @@ import pytest
 import cases.sweep as sweep_module
 from cases.cli import main
 from cases.sweep import sweep
-from interfaces import SolverError
+from interfaces import CaseError, SolverError
 
 VALUES = [0.1, 0.3, 1.0, 3.0]
 REAL_RUN = sweep_module.run
@@ -99,3 +99,9 @@ def test_interrupted_mpm_point_resumes_from_its_checkpoint(tmp_path, interrupt_m
     for i in range(2):
         mine, ref = resumed.points[i]["mpm"]["quantities"], reference.points[i]["mpm"]["quantities"]
         assert mine == ref, i
+
+
+def test_sweep_refuses_a_shared_mpm_checkpoint(tmp_path):
+    with pytest.raises(CaseError, match="mpm option checkpoint is not for sweeps"):
+        sweep("two_layer", "Dt", [5.0, 50.0], methods="mpm", workers=1,
+              options={"mpm": {"checkpoint": str(tmp_path / "x.npz")}})
