@@ -245,7 +245,7 @@ class Model:
         return (S.step_control(self), S.particle_state(self.particles, self.axisymmetric,
                                                    self.opts["update"] == "musl",
                                                    bool(np.any(self.material_kind)),
-                                                   self.opts["xpic"]),
+                                                   self.opts["xpic"], self.cpdi),
                 S.grid_spec(g, self.kind, self.axis_nodes),
                 S.nodal_state(self.nodal, self.bcs.ghosts is not None and
                               self.bcs.ghosts.node.size > 0, self.opts["xpic"]),

@@ -42,6 +42,8 @@ class ParticleState(NamedTuple):
     foff0: np.ndarray          # (P, D) undeformed loaded-edge offsets (foff = F foff0)
     eos: np.ndarray            # (P, 2) Mie-Grueneisen (e, P) (mpm.mie_gruneisen; else 0 rows)
     xpic: np.ndarray           # (2, P, D) XPIC(m) particle extrapolations (mpm.xpic; else 0 rows)
+    xpic_node: np.ndarray      # XPIC(m) stencils: nodes (mpm.xpic.stencil_arrays; else 0 rows)
+    xpic_weight: np.ndarray    # ... and weights
 
 
 class GridSpec(NamedTuple):
@@ -152,9 +154,11 @@ class StepControl(NamedTuple):
 
 
 def particle_state(pt, axisymmetric: bool, musl: bool, finite_strain: bool = False,
-                   xpic: int = 0) -> ParticleState:
+                   xpic: int = 0, cpdi: bool = False) -> ParticleState:
     """Bundle of :class:`mpm.particles.Particles` (LR radii: half the spacing) with the
-    work arrays of MUSL, axisymmetric, finite-strain and XPIC(m) runs."""
+    work arrays of MUSL, axisymmetric, finite-strain and XPIC(m) runs (``cpdi``: the
+    CPDI shapes' XPIC node lists)."""
+    from .xpic import stencil_arrays
     half_width = np.ascontiguousarray(np.broadcast_to(0.5 * np.asarray(pt.spacing, float),
                                                       pt.x.shape))
     n = pt.P if axisymmetric else 0
@@ -166,7 +170,7 @@ def particle_state(pt, axisymmetric: bool, musl: bool, finite_strain: bool = Fal
                          np.zeros((n, pt.strain.shape[1])), np.zeros(n), pt.F,
                          np.zeros((pt.P if finite_strain else 0, pt.x.shape[1], pt.x.shape[1])),
                          pt.foff0, pt.eos if pt.eos is not None else np.zeros((0, 2)),
-                         np.zeros((2 if xpic else 0, pt.P, pt.x.shape[1])))
+                         *stencil_arrays(pt.P, pt.x.shape[1], cpdi, xpic))
 
 
 def grid_spec(grid, kind: int, axis_nodes: np.ndarray) -> GridSpec:

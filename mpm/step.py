@@ -395,7 +395,7 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
     ke, U, work, lost, ke_grid = phase_g2p(ctl, pt, grid, nd, blocks, scale)
     if lost >= 0:
         return lost
-    ke, diss_xpic = phase_xpic_particles(ctl, pt, ke)
+    ke, diss_xpic = phase_xpic_particles(ctl, pt, grid, nd, ke)
     diss += diss_xpic
     if ctl.mode == MUSL:
         U = phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes)

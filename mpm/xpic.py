@@ -34,12 +34,15 @@ The accelerations a_alpha are those of the step's second contact correction (004
 33, f^{C,1}), so with perfect interfaces every field reverts to the single-material
 acceleration. The kinetic energy the projection removes is counted as dissipated.
 
-Work arrays (mpm/state.py): ``NodalState.xpic`` [7, N, M, D] with the slots below and
-``ParticleState.xpic`` [2, P, D] (S v~ and S (v~ - v+) at the start-of-step positions);
-zero rows when XPIC is off. The kernels are written once for 2D and 3D (tensor-product
-shapes: linear, uGIMP, B2, on the 3-node stencil of :func:`mpm.shape.axis_weights3`);
-the CPDI shapes (2D) use each particle's node list of :func:`mpm.cpdi.shape_cpdi`, built
-once per step from the start-of-step domains (the ones P2G used).
+Work arrays (mpm/state.py): ``NodalState.xpic`` [7, N, M, D] with the slots below;
+per particle ``ParticleState.xpic_node`` / ``xpic_weight`` (the stencils, written once
+per step at the start-of-step positions, the ones P2G used) and ``ParticleState.xpic``
+(the extrapolations, CPDI shapes and 3D only): :func:`stencil_arrays`. The passes are
+written for the 2D tensor-product shapes (linear, uGIMP, B2: the 3 x 3 stencil of
+:func:`mpm.shape.axis_weights3` as two sets of 1D weights; the V and Delta v series of a
+pass in one particle loop, the extrapolation of v~ inside the blend), for the CPDI shapes
+(2D, each particle's node list of :func:`mpm.cpdi.shape_cpdi`) and for any D (3D: the
+3^D stencil recomputed in each pass).
 """
 from __future__ import annotations
 
@@ -47,7 +50,7 @@ import numpy as np
 from numba import njit
 
 from .cpdi import is_cpdi, shape_cpdi
-from .kernels import nodal_kinematics
+from .kernels import _pick, nodal_kinematics
 from .shape import axis_weights3
 from .xpic_contact import contact_grid_velocity
 
@@ -100,75 +103,130 @@ def start_fields(mass, mom, work) -> None:
                 work[V0, n, f, d] = mom[n, f, d] * inv
 
 
+#: CPDI shapes: entries per particle (4 corners x 3 x 3 nodes of B2-CPDI; 2 x 2 for CPDI)
+CPDI_ENTRIES = 36
+
+
+def stencil_arrays(P: int, D: int, cpdi: bool, xpic: int) -> tuple:
+    """The per-particle work arrays of an XPIC(m) run (``ParticleState.xpic``,
+    ``xpic_node``, ``xpic_weight``; zero rows without XPIC):
+
+    * 2D tensor-product shapes: ``xpic_node[p, 0]`` the flat index ((node * M + field) *
+      2) of the x component of the first node of the particle's 3 x 3 stencil (-1 off
+      the grid), ``xpic_weight[p]`` its 1D weights (x0, x1, x2, y0, y1, y2), both
+      written once per step (:func:`stencils_2d`); the extrapolations go straight into
+      the blend (no ``xpic`` rows);
+    * CPDI shapes: ``xpic_node[p]`` = (count, node of each entry), ``xpic_weight[p]`` the
+      entries' S_ip (:func:`stencils_cpdi`), and ``xpic`` [2, P, 2] the extrapolations
+      S v~, S (v~ - v+) of :func:`gather_particles`;
+    * 3D: ``xpic`` [2, P, 3] only (the any-D passes recompute the stencils)."""
+    if not xpic:
+        return np.zeros((0, P, D)), np.zeros((0, 1), np.int64), np.zeros((0, 6))
+    if cpdi:
+        return (np.zeros((2, P, D)), np.zeros((P, 1 + CPDI_ENTRIES), np.int64),
+                np.zeros((P, CPDI_ENTRIES)))
+    if D == 2:
+        return np.zeros((0, P, D)), np.zeros((P, 1), np.int64), np.zeros((P, 6))
+    return np.zeros((2, P, D)), np.zeros((0, 1), np.int64), np.zeros((0, 6))
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
-def stencils_2d(x, origin, cell, nn, lp, kind, base, wts) -> None:
-    """The 3 x 3 stencils of the particles, computed once per step for every pass: the
-    flat index of the first node (-1 off the grid) and the weights S_ip, row by row."""
+def stencils_2d(x, field, origin, cell, nn, lp, kind, M, node, wgt) -> None:
+    """The 3 x 3 stencils of the particles at their start-of-step positions, computed
+    once per step for every pass (:func:`stencil_arrays`, 2D)."""
     nx = nn[0]
     for p in range(x.shape[0]):
         i0, w0, w1, w2, _, _, _ = axis_weights3(x[p, 0], origin[0], cell[0], lp[0], kind)
         j0, q0, q1, q2, _, _, _ = axis_weights3(x[p, 1], origin[1], cell[1], lp[1], kind)
         if i0 < 0 or j0 < 0 or i0 + 3 > nx or j0 + 3 > nn[1]:
-            base[p] = -1
+            node[p, 0] = -1
             continue
-        base[p] = j0 * nx + i0
-        wts[p, 0] = w0 * q0
-        wts[p, 1] = w1 * q0
-        wts[p, 2] = w2 * q0
-        wts[p, 3] = w0 * q1
-        wts[p, 4] = w1 * q1
-        wts[p, 5] = w2 * q1
-        wts[p, 6] = w0 * q2
-        wts[p, 7] = w1 * q2
-        wts[p, 8] = w2 * q2
+        node[p, 0] = ((j0 * nx + i0) * M + field[p]) * 2
+        wgt[p, 0] = w0
+        wgt[p, 1] = w1
+        wgt[p, 2] = w2
+        wgt[p, 3] = q0
+        wgt[p, 4] = q1
+        wgt[p, 5] = q2
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _scatter_pass_2d(base, wts, pmass, field, nx, work, src, dst) -> None:
-    """The particle loop of :func:`scatter_pass` in 2D: dst += sum_p m_p S_ip (S src)_p
-    per field, unnormalised."""
-    for p in range(base.shape[0]):
-        b = base[p]
-        if b < 0:
+def _scatter_2d(node, wgt, pmass, nx, M, wf, src, dst, pair) -> None:
+    """The particle loop of :func:`scatter_passes` in 2D on the step's stencils (``wf``:
+    the work slots, each flat): dst += sum_p m_p S_ip (S src)_p per field, unnormalised,
+    and with ``pair`` = (src2, dst2) the same from src2 into dst2 in the same loop (the
+    stencil read once; ``pair`` None compiles the loop without it)."""
+    st = 2 * M              # flat stride between x-neighbours
+    srow = 2 * M * nx       # ... and between y-neighbours
+    for p in range(node.shape[0]):
+        k = node[p, 0]
+        if k < 0:
             continue
-        f = field[p]
+        w0 = wgt[p, 0]
+        w1 = wgt[p, 1]
+        w2 = wgt[p, 2]
         a0 = 0.0
         a1 = 0.0
+        b0 = 0.0
+        b1 = 0.0
         for jb in range(3):
-            row = b + jb * nx
-            for ia in range(3):
-                w = wts[p, 3 * jb + ia]
-                a0 += w * work[src, row + ia, f, 0]
-                a1 += w * work[src, row + ia, f, 1]
-        a0 *= pmass[p]
-        a1 *= pmass[p]
+            r = k + jb * srow
+            q = _pick(jb, wgt[p, 3], wgt[p, 4], wgt[p, 5])
+            a0 += q * (w0 * wf[src, r] + w1 * wf[src, r + st] + w2 * wf[src, r + 2 * st])
+            a1 += q * (w0 * wf[src, r + 1] + w1 * wf[src, r + st + 1]
+                       + w2 * wf[src, r + 2 * st + 1])
+            if pair is not None:
+                s2 = pair[0]
+                b0 += q * (w0 * wf[s2, r] + w1 * wf[s2, r + st] + w2 * wf[s2, r + 2 * st])
+                b1 += q * (w0 * wf[s2, r + 1] + w1 * wf[s2, r + st + 1]
+                           + w2 * wf[s2, r + 2 * st + 1])
+        mp = pmass[p]
         for jb in range(3):
-            row = b + jb * nx
+            r = k + jb * srow
+            q = _pick(jb, wgt[p, 3], wgt[p, 4], wgt[p, 5]) * mp
             for ia in range(3):
-                w = wts[p, 3 * jb + ia]
-                work[dst, row + ia, f, 0] += w * a0
-                work[dst, row + ia, f, 1] += w * a1
+                s = _pick(ia, w0, w1, w2) * q
+                c = r + ia * st
+                wf[dst, c] += s * a0
+                wf[dst, c + 1] += s * a1
+                if pair is not None:
+                    d2 = pair[1]
+                    wf[d2, c] += s * b0
+                    wf[d2, c + 1] += s * b1
 
 
 @njit(cache=True)
-def scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst, base,
-                 wts, lists) -> None:
+def scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst, src2, dst2,
+                   node, wgt) -> None:
     """dst <- sum_p m_p S_ip (S src)_p (slots of ``work``), each field on its own
     particles: m_i S+_alpha S src before the division by the nodal mass (004 Eq 43-44);
-    2D with the step's stencils ``base``, ``wts`` (:func:`stencils_2d`), CPDI shapes with
-    its node ``lists`` = (nodes, weights, counts) (:func:`stencils_cpdi`)."""
+    with ``src2`` >= 0 also dst2 <- the same of src2 (the V and Delta v series of Eq
+    43-44 in one loop over the particles). 2D with the step's stencils ``node``, ``wgt``
+    (:func:`stencils_2d`), CPDI shapes with their node lists (:func:`stencils_cpdi`),
+    3D with the any-D loop."""
     work[dst] = 0.0
-    if lists[2].shape[0]:
-        _scatter_pass_list(lists[0], lists[1], lists[2], pmass, field, work, src, dst)
+    if src2 >= 0:
+        work[dst2] = 0.0
+    if is_cpdi(kind):
+        if src2 >= 0:
+            _scatter_list(node, wgt, pmass, field, work, src, dst, (src2, dst2))
+        else:
+            _scatter_list(node, wgt, pmass, field, work, src, dst, None)
     elif x.shape[1] == 2:
-        _scatter_pass_2d(base, wts, pmass, field, nn[0], work, src, dst)
+        wf = work.reshape(work.shape[0], -1)
+        if src2 >= 0:
+            _scatter_2d(node, wgt, pmass, nn[0], work.shape[2], wf, src, dst, (src2, dst2))
+        else:
+            _scatter_2d(node, wgt, pmass, nn[0], work.shape[2], wf, src, dst, None)
     else:
         _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst)
+        if src2 >= 0:
+            _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src2, dst2)
 
 
 @njit(cache=True)
 def _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst) -> None:
-    """The particle loop of :func:`scatter_pass` for any D (3^D stencil)."""
+    """The particle loop of :func:`scatter_passes` for any D (3^D stencil)."""
     D = x.shape[1]
     M = work.shape[2]
     ns = 27 if D == 3 else 9
@@ -195,52 +253,58 @@ def _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, ds
                 wf[dst, k + d] += mp * wt[c] * sv[d]
 
 
-#: CPDI shapes: entries per particle (4 corners x 3 x 3 nodes of B2-CPDI; 2 x 2 for CPDI)
-CPDI_ENTRIES = 36
-
-
 @njit(cache=True, fastmath=True, error_model="numpy")
-def stencils_cpdi(x, F, hw, origin, cell, nn, kind, cidx, cwt, cnt) -> None:
+def stencils_cpdi(x, F, hw, origin, cell, nn, kind, node, wgt) -> None:
     """The CPDI / B2-CPDI node lists of the particles (mpm/cpdi.py, one entry per corner
     and node, a node reached by several corners listed once per corner), computed once
-    per step for every pass: ``cnt[p]`` entries (-1 off the grid), nodes ``cidx`` and
-    weights S_ip ``cwt``."""
+    per step for every pass: ``node[p, 0]`` entries (-1 off the grid), their nodes in
+    ``node[p, 1:]`` and weights S_ip in ``wgt[p]``."""
     G = np.empty((CPDI_ENTRIES, 2))
     for p in range(x.shape[0]):
-        cnt[p] = shape_cpdi(p, x, F, hw, origin, cell, nn, kind, cidx[p], cwt[p], G)
+        node[p, 0] = shape_cpdi(p, x, F, hw, origin, cell, nn, kind, node[p, 1:], wgt[p], G)
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _scatter_pass_list(cidx, cwt, cnt, pmass, field, work, src, dst) -> None:
-    """The particle loop of :func:`scatter_pass` on node lists (CPDI shapes, 2D)."""
-    for p in range(cnt.shape[0]):
-        f = field[p]
-        a0 = 0.0
-        a1 = 0.0
-        for c in range(cnt[p]):
-            w = cwt[p, c]
-            a0 += w * work[src, cidx[p, c], f, 0]
-            a1 += w * work[src, cidx[p, c], f, 1]
-        a0 *= pmass[p]
-        a1 *= pmass[p]
-        for c in range(cnt[p]):
-            w = cwt[p, c]
-            work[dst, cidx[p, c], f, 0] += w * a0
-            work[dst, cidx[p, c], f, 1] += w * a1
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def _gather_list(cidx, cwt, cnt, field, work, nvel, out) -> None:
-    """:func:`gather_particles` on node lists (CPDI shapes, 2D)."""
-    for p in range(cnt.shape[0]):
+def _scatter_list(node, wgt, pmass, field, work, src, dst, pair) -> None:
+    """The particle loop of :func:`scatter_passes` on node lists (CPDI shapes, 2D; ``pair``
+    as in :func:`_scatter_2d`)."""
+    for p in range(node.shape[0]):
         f = field[p]
         a0 = 0.0
         a1 = 0.0
         b0 = 0.0
         b1 = 0.0
-        for c in range(cnt[p]):
-            w = cwt[p, c]
-            n = cidx[p, c]
+        for c in range(node[p, 0]):
+            w = wgt[p, c]
+            n = node[p, c + 1]
+            a0 += w * work[src, n, f, 0]
+            a1 += w * work[src, n, f, 1]
+            if pair is not None:
+                b0 += w * work[pair[0], n, f, 0]
+                b1 += w * work[pair[0], n, f, 1]
+        mp = pmass[p]
+        for c in range(node[p, 0]):
+            w = wgt[p, c] * mp
+            n = node[p, c + 1]
+            work[dst, n, f, 0] += w * a0
+            work[dst, n, f, 1] += w * a1
+            if pair is not None:
+                work[pair[1], n, f, 0] += w * b0
+                work[pair[1], n, f, 1] += w * b1
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _gather_list(node, wgt, field, work, nvel, out) -> None:
+    """:func:`gather_particles` on node lists (CPDI shapes, 2D)."""
+    for p in range(node.shape[0]):
+        f = field[p]
+        a0 = 0.0
+        a1 = 0.0
+        b0 = 0.0
+        b1 = 0.0
+        for c in range(node[p, 0]):
+            w = wgt[p, c]
+            n = node[p, c + 1]
             v0 = work[VS, n, f, 0]
             v1 = work[VS, n, f, 1]
             a0 += w * v0
@@ -255,7 +319,7 @@ def _gather_list(cidx, cwt, cnt, field, work, nvel, out) -> None:
 
 @njit(cache=True)
 def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind, mass,
-                       nacc, dt, work, base, wts, lists) -> None:
+                       nacc, dt, work, node, wgt) -> None:
     """v~ = m (v_alpha - v*_alpha) + a_alpha dt into slot VS (004 Eq 41-44); ``work[V0]``
     and ``work[DV]`` hold v_alpha and Delta v_alpha (:func:`start_fields`). Without
     ``corrected`` the Delta v terms are left out (the uncorrected variant)."""
@@ -265,10 +329,9 @@ def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind
     work[VS] = 0.0
     N, M, D = nacc.shape
     for k in range(2, m + 1):
-        scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, VK, VN, base, wts, lists)
         next_dk = corrected and k < m
-        if next_dk:
-            scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, DK, DN, base, wts, lists)
+        scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, VK, VN,
+                       DK if next_dk else -1, DN, node, wgt)
         sign = 1.0 if k % 2 == 0 else -1.0
         cv = (m + 1.0 - k) / k            # Eq 43
         cd = (m - k) / k                  # Eq 44
@@ -303,41 +366,15 @@ def keep_conditioned(work, nvel, bc_node, bc_field, bc_comp, g_node, g_field) ->
             work[VS, g_node[c], g_field[c], d] = nvel[g_node[c], g_field[c], d]
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
-def gather_particles(x, field, origin, cell, nn, lp, kind, work, nvel, out, base, wts,
-                     lists) -> None:
-    """out[0, p] = S v~, out[1, p] = S (v~ - v+) at the start-of-step positions (2D: the
-    step's stencils ``base``, ``wts``; CPDI shapes: the node ``lists``)."""
-    if lists[2].shape[0]:
-        _gather_list(lists[0], lists[1], lists[2], field, work, nvel, out)
-        return
-    if x.shape[1] != 2:
+@njit(cache=True)
+def gather_particles(x, field, origin, cell, nn, lp, kind, work, nvel, out, node, wgt) -> None:
+    """out[0, p] = S v~, out[1, p] = S (v~ - v+) at the start-of-step positions (CPDI
+    shapes: the node lists; 3D: the 3^D stencils of ``x``); the 2D tensor-product shapes
+    extrapolate inside :func:`gather_blend_2d` instead."""
+    if is_cpdi(kind):
+        _gather_list(node, wgt, field, work, nvel, out)
+    else:
         _gather_particles_any(x, field, origin, cell, nn, lp, kind, work, nvel, out)
-        return
-    nx = nn[0]
-    for p in range(x.shape[0]):
-        b = base[p]
-        a0 = 0.0
-        a1 = 0.0
-        b0 = 0.0
-        b1 = 0.0
-        if b >= 0:
-            f = field[p]
-            for jb in range(3):
-                row = b + jb * nx
-                for ia in range(3):
-                    w = wts[p, 3 * jb + ia]
-                    n = row + ia
-                    v0 = work[VS, n, f, 0]
-                    v1 = work[VS, n, f, 1]
-                    a0 += w * v0
-                    a1 += w * v1
-                    b0 += w * (v0 - nvel[n, f, 0])
-                    b1 += w * (v1 - nvel[n, f, 1])
-        out[0, p, 0] = a0
-        out[0, p, 1] = a1
-        out[1, p, 0] = b0
-        out[1, p, 1] = b1
 
 
 @njit(cache=True)
@@ -368,7 +405,8 @@ def _gather_particles_any(x, field, origin, cell, nn, lp, kind, work, nvel, out)
 @njit(cache=True)
 def blend_particles(beta, dt, pmass, v, x, out):
     """V <- (1 - beta) V_FLIP + beta S v~, x += beta dt S (v~ - v+) (the FLIP update and
-    x += dt S v+ already done by G2P); returns (kinetic energy after, before)."""
+    x += dt S v+ already done by G2P) from the extrapolations ``out`` of
+    :func:`gather_particles`; returns (kinetic energy after, before)."""
     ke = 0.0
     ke_flip = 0.0
     D = v.shape[1]
@@ -384,6 +422,55 @@ def blend_particles(beta, dt, pmass, v, x, out):
             x[p, d] += beta * dt * out[1, p, d]
         ke_flip += 0.5 * pmass[p] * s0
         ke += 0.5 * pmass[p] * s1
+    return ke, ke_flip
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def gather_blend_2d(beta, dt, pmass, v, x, node, wgt, nx, work, nvel):
+    """:func:`blend_particles` with S v~ and S (v~ - v+) extrapolated in the same loop,
+    on the step's 2D stencils (the start-of-step positions: G2P has moved ``x``)."""
+    M = nvel.shape[1]
+    st = 2 * M
+    srow = 2 * M * nx
+    tf = work[VS].reshape(-1)
+    vf = nvel.reshape(-1)
+    ke = 0.0
+    ke_flip = 0.0
+    for p in range(v.shape[0]):
+        k = node[p, 0]
+        a0 = 0.0
+        a1 = 0.0
+        b0 = 0.0
+        b1 = 0.0
+        if k >= 0:
+            w0 = wgt[p, 0]
+            w1 = wgt[p, 1]
+            w2 = wgt[p, 2]
+            for jb in range(3):
+                r = k + jb * srow
+                q = _pick(jb, wgt[p, 3], wgt[p, 4], wgt[p, 5])
+                t0 = tf[r]
+                t1 = tf[r + 1]
+                t2 = tf[r + st]
+                t3 = tf[r + st + 1]
+                t4 = tf[r + 2 * st]
+                t5 = tf[r + 2 * st + 1]
+                a0 += q * (w0 * t0 + w1 * t2 + w2 * t4)
+                a1 += q * (w0 * t1 + w1 * t3 + w2 * t5)
+                b0 += q * (w0 * (t0 - vf[r]) + w1 * (t2 - vf[r + st])
+                           + w2 * (t4 - vf[r + 2 * st]))
+                b1 += q * (w0 * (t1 - vf[r + 1]) + w1 * (t3 - vf[r + st + 1])
+                           + w2 * (t5 - vf[r + 2 * st + 1]))
+        u0 = v[p, 0]
+        u1 = v[p, 1]
+        n0 = (1.0 - beta) * u0 + beta * a0
+        n1 = (1.0 - beta) * u1 + beta * a1
+        v[p, 0] = n0
+        v[p, 1] = n1
+        x[p, 0] += beta * dt * b0
+        x[p, 1] += beta * dt * b1
+        ke_flip += 0.5 * pmass[p] * (u0 * u0 + u1 * u1)
+        ke += 0.5 * pmass[p] * (n0 * n0 + n1 * n1)
     return ke, ke_flip
 
 
@@ -403,25 +490,20 @@ def phase_xpic_start(ctl, nd) -> None:
 
 @njit(cache=True, inline="always")
 def phase_xpic_grid(ctl, pt, grid, nd, bc, pairs, nodes) -> None:
-    """Before G2P: the XPIC(m) grid velocity v~ (004 Eq 41-44; m = 1: v+), held to the
-    contact conditions of ``pairs`` on the multimaterial ``nodes`` (mpm/xpic_contact.py),
-    and its extrapolations to the particles."""
+    """Before G2P: the particles' stencils at the start-of-step positions, the XPIC(m)
+    grid velocity v~ (004 Eq 41-44; m = 1: v+), held to the contact conditions of
+    ``pairs`` on the multimaterial ``nodes`` (mpm/xpic_contact.py) and, CPDI shapes and
+    3D, its extrapolations to the particles."""
     if ctl.xpic < 1:
         return
     nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
-    P = pt.x.shape[0]
     cpdi = is_cpdi(grid.kind)
-    n2 = P if pt.x.shape[1] == 2 and not cpdi else 0
-    nl = P if cpdi else 0
-    base = np.empty(n2, np.int64)
-    wts = np.empty((n2, 9))
-    lists = (np.empty((nl, CPDI_ENTRIES), np.int64), np.empty((nl, CPDI_ENTRIES)),
-             np.empty(nl, np.int64))
-    if n2:
-        stencils_2d(pt.x, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind, base, wts)
-    if nl:
+    if cpdi:
         stencils_cpdi(pt.x, pt.F, pt.half_width, grid.origin, grid.cell, grid.nn, grid.kind,
-                      lists[0], lists[1], lists[2])
+                      pt.xpic_node, pt.xpic_weight)
+    elif pt.x.shape[1] == 2:
+        stencils_2d(pt.x, pt.field, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
+                    nd.mass.shape[1], pt.xpic_node, pt.xpic_weight)
     if ctl.xpic == 1:
         nd.xpic[VS] = nd.velocity
     else:
@@ -430,22 +512,29 @@ def phase_xpic_grid(ctl, pt, grid, nd, bc, pairs, nodes) -> None:
         corrected = ctl.xpic_correction and nd.mass.shape[1] > 1
         xpic_grid_velocity(ctl.xpic, corrected, pt.x, pt.mass, pt.field, grid.origin,
                            grid.cell, grid.nn, pt.lp, grid.kind, mass, nd.acceleration, ctl.dt,
-                           nd.xpic, base, wts, lists)
+                           nd.xpic, pt.xpic_node, pt.xpic_weight)
         if nodes.size:
             contact_grid_velocity(nd.xpic[VS], nd.mass, nd.volume, nd.volume_gradient,
                                   nd.displacement, nd.position, grid.cell, grid.origin, grid.nn,
                                   pairs, ctl.dt, nodes)
         keep_conditioned(nd.xpic, nd.velocity, bc.node, bc.field, bc.comp, bc.ghost_node,
                          bc.ghost_field)
-    gather_particles(pt.x, pt.field, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
-                     nd.xpic, nd.velocity, pt.xpic, base, wts, lists)
+    if cpdi or pt.x.shape[1] != 2:
+        gather_particles(pt.x, pt.field, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
+                         nd.xpic, nd.velocity, pt.xpic, pt.xpic_node, pt.xpic_weight)
 
 
 @njit(cache=True, inline="always")
-def phase_xpic_particles(ctl, pt, ke):
-    """After the FLIP G2P: the XPIC(m) velocities and positions (Eq 35); returns (kinetic
-    energy, the kinetic energy the projection removed)."""
+def phase_xpic_particles(ctl, pt, grid, nd, ke):
+    """After the FLIP G2P: the XPIC(m) velocities and positions (Eq 35; 2D tensor-product
+    shapes: extrapolated from v~ in the same loop); returns (kinetic energy, the kinetic
+    energy the projection removed)."""
     if ctl.xpic < 1:
         return ke, 0.0
-    ke_new, ke_flip = blend_particles(ctl.xpic_blend, ctl.dt, pt.mass, pt.v, pt.x, pt.xpic)
+    if pt.xpic.shape[0]:
+        ke_new, ke_flip = blend_particles(ctl.xpic_blend, ctl.dt, pt.mass, pt.v, pt.x, pt.xpic)
+    else:
+        ke_new, ke_flip = gather_blend_2d(ctl.xpic_blend, ctl.dt, pt.mass, pt.v, pt.x,
+                                          pt.xpic_node, pt.xpic_weight, grid.nn[0], nd.xpic,
+                                          nd.velocity)
     return ke_new, ke_flip - ke_new

@@ -268,12 +268,12 @@ def test_checkpoint_resume_is_bit_identical_with_xpic(tmp_path, interrupt_mpm):
 
 @pytest.mark.parametrize("kind", [mpm.shape.LINEAR, mpm.shape.UGIMP, mpm.shape.B2])
 def test_projection_passes_equal_the_shape_function_matrices(kind):
-    """The 2D passes on the step's stencils (2 x 2 where a particle's support lies within
-    one cell in each direction, else 3 x 3; mpm/xpic.py stencils_2d) against matrices
-    built particle by particle from mpm.shape.shape_2d: the S+ S pass is
-    sum_p m_p S_ip (S w)_p per field, the extrapolations S v~ and S (v~ - v+). Particles
-    of a 2-per-cell lattice (uGIMP supports within one cell) and displaced ones (supports
-    across a node line) of two fields."""
+    """The 2D passes on the step's 3 x 3 stencils (mpm/xpic.py stencils_2d) against
+    matrices built particle by particle from mpm.shape.shape_2d: the S+ S pass is
+    sum_p m_p S_ip (S w)_p per field (two series in one loop: the V and Delta v slots),
+    the extrapolations S v~ and S (v~ - v+) of the blend (pic = 1, dt = 1, from V = 0,
+    x = 0). Particles of a 2-per-cell lattice (uGIMP supports within one cell) and
+    displaced ones (supports across a node line) of two fields."""
     import scipy.sparse as sp
 
     from mpm import xpic
@@ -289,9 +289,9 @@ def test_projection_passes_equal_the_shape_function_matrices(kind):
     lp = np.full(2, 0.25 * h)
     field = rng.integers(0, M, P)
     pmass = rng.uniform(0.5, 2.0, P)
-    base, wts = np.empty(P, np.int64), np.empty((P, 9))
-    xpic.stencils_2d(x, origin, cell, nn, lp, kind, base, wts)
-    assert np.all(base >= 0)
+    _, node, wgt = xpic.stencil_arrays(P, 2, False, 5)
+    xpic.stencils_2d(x, field, origin, cell, nn, lp, kind, M, node, wgt)
+    assert np.all(node >= 0)
     idx, S, G = np.empty(9, np.int64), np.empty(9), np.empty((9, 2))
     rows, cols, vals = [], [], []
     for p in range(P):
@@ -301,19 +301,19 @@ def test_projection_passes_equal_the_shape_function_matrices(kind):
         vals += list(S[:c])
     Smat = sp.csr_matrix((vals, (rows, cols)), shape=(P, N))
     work = np.zeros((xpic.N_SLOTS, N, M, 2))
-    work[xpic.VK] = rng.standard_normal((N, M, 2))
-    work[xpic.VS] = rng.standard_normal((N, M, 2))
+    for slot in (xpic.VK, xpic.DK, xpic.VS):
+        work[slot] = rng.standard_normal((N, M, 2))
     nvel = rng.standard_normal((N, M, 2))
-    lists = (np.empty((0, 36), np.int64), np.empty((0, 36)), np.empty(0, np.int64))
-    xpic.scatter_pass(x, pmass, field, origin, cell, nn, lp, kind, work, xpic.VK, xpic.VN,
-                      base, wts, lists)
-    out = np.empty((2, P, 2))
-    xpic.gather_particles(x, field, origin, cell, nn, lp, kind, work, nvel, out, base, wts, lists)
+    xpic.scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, xpic.VK, xpic.VN,
+                        xpic.DK, xpic.DN, node, wgt)
+    v, xb = np.zeros((P, 2)), np.zeros((P, 2))
+    xpic.gather_blend_2d(1.0, 1.0, pmass, v, xb, node, wgt, nx, work, nvel)
     for f in range(M):
         Sf = sp.diags((field == f).astype(float)) @ Smat
-        expected = Sf.T @ (pmass[:, None] * (Sf @ work[xpic.VK, :, f]))
-        assert np.allclose(work[xpic.VN, :, f], expected, rtol=1e-13, atol=1e-13)
+        for src, dst in ((xpic.VK, xpic.VN), (xpic.DK, xpic.DN)):
+            expected = Sf.T @ (pmass[:, None] * (Sf @ work[src, :, f]))
+            assert np.allclose(work[dst, :, f], expected, rtol=1e-13, atol=1e-13)
         mine = field == f
-        assert np.allclose(out[0, mine], (Smat @ work[xpic.VS, :, f])[mine], rtol=1e-13, atol=1e-13)
-        assert np.allclose(out[1, mine], (Smat @ (work[xpic.VS, :, f] - nvel[:, f]))[mine],
+        assert np.allclose(v[mine], (Smat @ work[xpic.VS, :, f])[mine], rtol=1e-13, atol=1e-13)
+        assert np.allclose(xb[mine], (Smat @ (work[xpic.VS, :, f] - nvel[:, f]))[mine],
                            rtol=1e-13, atol=1e-13)
