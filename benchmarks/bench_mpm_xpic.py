@@ -44,7 +44,8 @@ def variants(side: float) -> dict:
     """name -> (case, mpm options) of :data:`RUNS` on the ``side`` mm block."""
     from interfaces import IsotropicElastic
     mat = IsotropicElastic(E=1000.0, nu=0.3, rho=1e-9)
-    return {name: (loaded_block(mat, side, split), dict({"shape": "ugimp", "update": "usl"}, **opts))
+    base = {"shape": "ugimp", "update": "usl"}
+    return {name: (loaded_block(mat, side, split), dict(base, **opts))
             for name, (split, opts) in RUNS.items()}
 
 

@@ -108,7 +108,8 @@ class _OldTree:
     def _line(self) -> str:
         line = self.proc.stdout.readline()
         if not line:
-            raise RuntimeError(f"the old tree's benchmark process stopped (code {self.proc.wait()})")
+            code = self.proc.wait()
+            raise RuntimeError(f"the old tree's benchmark process stopped (code {code})")
         return line
 
     def window(self, per: int) -> dict:

@@ -167,13 +167,25 @@ def _pick(k, a0, a1, a2):
     return a0 if k == 0 else (a1 if k == 1 else a2)
 
 
+@njit(cache=True, inline="always")
+def _window3(i0, n, w0, w1, w2):
+    """A 3-node window (start, weights) holding the support i0.. of 2 or 3 nodes (unused
+    weights 0) on an axis of ``n`` nodes: shifted back one node at the grid's end."""
+    if i0 + 3 > n:
+        return i0 - 1, 0.0, w0, w1
+    return i0, w0, w1, w2
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def p2g_range_2d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, kind,
-                 multi, internal, mass, mom, force, volume, volgrad, disp, pos):
+                 multi, internal, mass, mom, force, volume, volgrad, disp, pos, xnode=None,
+                 xweight=None):
     """Scatter of particles lo..hi-1 (mass, momentum, internal force and, with
     ``multi``, the unnormalised multimaterial sums) into the given nodal arrays,
     added to what they hold. Returns the first particle whose support leaves the grid
-    (the scatter stops there) or -1.
+    (the scatter stops there) or -1. XPIC(m) runs pass ``xnode``, ``xweight`` (rows >=
+    P): each particle's 3 x 3 stencil for the XPIC passes of the step, from the weights
+    computed here (:func:`mpm.xpic.stencil_arrays`).
 
     Written for speed (the scatter and the gather of G2P are most of a step): 1D weights
     as scalars, flat views of the nodal arrays, trimmed 2-or-3 node loops (fewer
@@ -201,6 +213,17 @@ def p2g_range_2d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn,
         if not _inside(i0, j0, nax, nay, nn):
             return p
         f = field[p]
+        if xnode is not None:
+            if xnode.shape[0]:
+                a, s0, s1, s2 = _window3(i0, nx, w0, w1, w2)
+                b, t0, t1, t2 = _window3(j0, nn[1], q0, q1, q2)
+                xnode[p, 0] = ((b * nx + a) * M + f) * 2
+                xweight[p, 0] = s0
+                xweight[p, 1] = s1
+                xweight[p, 2] = s2
+                xweight[p, 3] = t0
+                xweight[p, 4] = t1
+                xweight[p, 5] = t2
         m = pmass[p]
         V = pvol[p]
         mvx = m * v[p, 0]

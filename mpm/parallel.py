@@ -58,14 +58,15 @@ def default_blocks(n_particles: int) -> int:
 
 @njit(cache=True, inline="always")
 def p2g_range(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, kind, multi,
-              internal, mass, mom, force, volume, volgrad, disp, pos):
+              internal, mass, mom, force, volume, volgrad, disp, pos, xnode=None, xweight=None):
     """:func:`mpm.kernels.p2g_range_2d` or :func:`mpm.kernels3d.p2g_range_3d` by the
-    particles' dimension."""
+    particles' dimension (``xnode``, ``xweight``: the 2D XPIC stencils, written by P2G)."""
     if x.shape[1] == 3:
         return p2g_range_3d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp,
                             kind, multi, internal, mass, mom, force, volume, volgrad, disp, pos)
     return p2g_range_2d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, kind,
-                        multi, internal, mass, mom, force, volume, volgrad, disp, pos)
+                        multi, internal, mass, mom, force, volume, volgrad, disp, pos, xnode,
+                        xweight)
 
 
 @njit(cache=True, inline="always")
@@ -84,7 +85,8 @@ def g2p_range(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, fof
 
 @njit(cache=True, parallel=True)
 def _scatter_blocks(x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, kind, multi,
-                    internal, bmass, bmom, bforce, bvolume, bvolgrad, bdisp, bpos, lost):
+                    internal, bmass, bmom, bforce, bvolume, bvolgrad, bdisp, bpos, lost, xnode,
+                    xweight):
     nb = bmass.shape[0]
     P = x.shape[0]
     for ib in prange(nb):
@@ -100,11 +102,13 @@ def _scatter_blocks(x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, 
             bpos[ib] = 0.0
             lost[ib] = p2g_range(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell,
                                  nn, lp, kind, True, internal, bmass[ib], bmom[ib],
-                                    bforce[ib], bvolume[ib], bvolgrad[ib], bdisp[ib], bpos[ib])
+                                    bforce[ib], bvolume[ib], bvolgrad[ib], bdisp[ib], bpos[ib],
+                                 xnode, xweight)
         else:
             lost[ib] = p2g_range(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell,
                                  nn, lp, kind, False, internal, bmass[ib], bmom[ib],
-                                    bforce[ib], bmass[ib], bmom[ib], bmom[ib], bmom[ib])  # unused
+                                    bforce[ib], bmass[ib], bmom[ib], bmom[ib], bmom[ib],  # unused
+                                 xnode, xweight)
 
 
 @njit(cache=True, parallel=True)
@@ -149,23 +153,24 @@ def _reduce_blocks(multi, mass, mom, force, volume, volgrad, disp, pos,
 def p2g_blocks(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
                   origin, cell, nn, lp, kind, multi, internal,
                   mass, mom, force, volume, volgrad, disp, pos,
-                  bmass, bmom, bforce, bvolume, bvolgrad, bdisp, bpos):
+                  bmass, bmom, bforce, bvolume, bvolgrad, bdisp, bpos, xnode, xweight):
     """:func:`mpm.kernels.p2g_2d` (same arguments and return value) with the particle
     scatter run over the blocks of the buffers ``b*`` in parallel; serial
-    :func:`mpm.kernels.p2g_2d` when there are fewer than 2 blocks."""
+    :func:`mpm.kernels.p2g_2d` when there are fewer than 2 blocks. ``xnode``,
+    ``xweight``: the 2D XPIC stencils P2G writes (zero rows: none)."""
     nb = bmass.shape[0]
     if nb < 2:
         zero_nodal(multi, mass, mom, force, volume, volgrad, disp, pos)
         lost = p2g_range(0, x.shape[0], x, v, pmass, pvol, stress, field, x0, origin, cell,
                          nn, lp, kind, multi, internal, mass, mom, force, volume, volgrad,
-                         disp, pos)
+                         disp, pos, xnode, xweight)
         if lost >= 0:
             return lost
     else:
         lostb = np.empty(nb, np.int64)
         _scatter_blocks(x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, kind,
                         multi, internal, bmass, bmom, bforce, bvolume, bvolgrad, bdisp, bpos,
-                        lostb)
+                        lostb, xnode, xweight)
         for ib in range(nb):
             if lostb[ib] >= 0:
                 return lostb[ib]

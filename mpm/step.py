@@ -65,7 +65,8 @@ _OVER_LIMIT = int(STATUS_OVER_LIMIT)
 def phase_p2g(pt, grid, nd, blocks, scale, multi, internal) -> int:
     """Step 1: P2G over the particle blocks (race-free, mpm/parallel.py). ``internal``
     False (USF) leaves the internal force for after the stress update. Returns the
-    index of a particle outside the grid, or -1. CPDI shapes: mpm/cpdi.py."""
+    index of a particle outside the grid, or -1. CPDI shapes: mpm/cpdi.py. 2D XPIC(m)
+    runs: P2G also writes the particles' stencils for the XPIC passes (mpm/xpic.py)."""
     if is_cpdi(grid.kind):
         return p2g_cpdi(pt.x, pt.v, pt.mass, pt.volume, pt.stress, pt.field, pt.x0, pt.F,
                         pt.half_width, pt.fext, pt.foff, pt.foff0, scale, grid.origin,
@@ -76,7 +77,7 @@ def phase_p2g(pt, grid, nd, blocks, scale, multi, internal) -> int:
                       multi, internal, nd.mass, nd.momentum, nd.force, nd.volume,
                       nd.volume_gradient, nd.displacement, nd.position, blocks.mass,
                       blocks.mom, blocks.force, blocks.volume, blocks.volgrad, blocks.disp,
-                      blocks.pos)
+                      blocks.pos, pt.xpic_node, pt.xpic_weight)
 
 
 @njit(cache=True, inline="always")

@@ -35,14 +35,14 @@ The accelerations a_alpha are those of the step's second contact correction (004
 acceleration. The kinetic energy the projection removes is counted as dissipated.
 
 Work arrays (mpm/state.py): ``NodalState.xpic`` [7, N, M, D] with the slots below;
-per particle ``ParticleState.xpic_node`` / ``xpic_weight`` (the stencils, written once
-per step at the start-of-step positions, the ones P2G used) and ``ParticleState.xpic``
-(the extrapolations, CPDI shapes and 3D only): :func:`stencil_arrays`. The passes are
-written for the 2D tensor-product shapes (linear, uGIMP, B2: the 3 x 3 stencil of
-:func:`mpm.shape.axis_weights3` as two sets of 1D weights; the V and Delta v series of a
-pass in one particle loop, the extrapolation of v~ inside the blend), for the CPDI shapes
-(2D, each particle's node list of :func:`mpm.cpdi.shape_cpdi`) and for any D (3D: the
-3^D stencil recomputed in each pass).
+per particle ``ParticleState.xpic_node`` / ``xpic_weight`` (the stencils at the
+start-of-step positions: written by P2G in 2D, by :func:`stencils_cpdi` for the CPDI
+shapes) and ``ParticleState.xpic`` (the extrapolations, CPDI shapes and 3D only):
+:func:`stencil_arrays`. The passes are written for the 2D tensor-product shapes (linear,
+uGIMP, B2: a 3 x 3 window of P2G's 1D weights; the V and Delta v series of a pass in one
+particle loop, the extrapolation of v~ inside the blend), for the CPDI shapes (2D, each
+particle's node list of :func:`mpm.cpdi.shape_cpdi`) and for any D (3D: the 3^D stencil
+recomputed in each pass).
 """
 from __future__ import annotations
 
@@ -112,9 +112,10 @@ def stencil_arrays(P: int, D: int, cpdi: bool, xpic: int) -> tuple:
     ``xpic_node``, ``xpic_weight``; zero rows without XPIC):
 
     * 2D tensor-product shapes: ``xpic_node[p, 0]`` the flat index ((node * M + field) *
-      2) of the x component of the first node of the particle's 3 x 3 stencil (-1 off
-      the grid), ``xpic_weight[p]`` its 1D weights (x0, x1, x2, y0, y1, y2), both
-      written once per step (:func:`stencils_2d`); the extrapolations go straight into
+      2) of the x component of the first node of a 3 x 3 window holding the particle's
+      support, ``xpic_weight[p]`` its 1D weights (x0, x1, x2, y0, y1, y2; 0 beyond the
+      support), written by P2G from the weights it computes at the start-of-step
+      positions (:func:`mpm.kernels.p2g_range_2d`); the extrapolations go straight into
       the blend (no ``xpic`` rows);
     * CPDI shapes: ``xpic_node[p]`` = (count, node of each entry), ``xpic_weight[p]`` the
       entries' S_ip (:func:`stencils_cpdi`), and ``xpic`` [2, P, 2] the extrapolations
@@ -128,26 +129,6 @@ def stencil_arrays(P: int, D: int, cpdi: bool, xpic: int) -> tuple:
     if D == 2:
         return np.zeros((0, P, D)), np.zeros((P, 1), np.int64), np.zeros((P, 6))
     return np.zeros((2, P, D)), np.zeros((0, 1), np.int64), np.zeros((0, 6))
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def stencils_2d(x, field, origin, cell, nn, lp, kind, M, node, wgt) -> None:
-    """The 3 x 3 stencils of the particles at their start-of-step positions, computed
-    once per step for every pass (:func:`stencil_arrays`, 2D)."""
-    nx = nn[0]
-    for p in range(x.shape[0]):
-        i0, w0, w1, w2, _, _, _ = axis_weights3(x[p, 0], origin[0], cell[0], lp[0], kind)
-        j0, q0, q1, q2, _, _, _ = axis_weights3(x[p, 1], origin[1], cell[1], lp[1], kind)
-        if i0 < 0 or j0 < 0 or i0 + 3 > nx or j0 + 3 > nn[1]:
-            node[p, 0] = -1
-            continue
-        node[p, 0] = ((j0 * nx + i0) * M + field[p]) * 2
-        wgt[p, 0] = w0
-        wgt[p, 1] = w1
-        wgt[p, 2] = w2
-        wgt[p, 3] = q0
-        wgt[p, 4] = q1
-        wgt[p, 5] = q2
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
@@ -202,8 +183,8 @@ def scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst, 
     particles: m_i S+_alpha S src before the division by the nodal mass (004 Eq 43-44);
     with ``src2`` >= 0 also dst2 <- the same of src2 (the V and Delta v series of Eq
     43-44 in one loop over the particles). 2D with the step's stencils ``node``, ``wgt``
-    (:func:`stencils_2d`), CPDI shapes with their node lists (:func:`stencils_cpdi`),
-    3D with the any-D loop."""
+    (written by P2G, :func:`stencil_arrays`), CPDI shapes with their node lists
+    (:func:`stencils_cpdi`), 3D with the any-D loop."""
     work[dst] = 0.0
     if src2 >= 0:
         work[dst2] = 0.0
@@ -428,7 +409,8 @@ def blend_particles(beta, dt, pmass, v, x, out):
 @njit(cache=True, fastmath=True, error_model="numpy")
 def gather_blend_2d(beta, dt, pmass, v, x, node, wgt, nx, work, nvel):
     """:func:`blend_particles` with S v~ and S (v~ - v+) extrapolated in the same loop,
-    on the step's 2D stencils (the start-of-step positions: G2P has moved ``x``)."""
+    on the step's 2D stencils (the start-of-step positions: G2P has moved ``x``; a
+    particle off the grid has none, P2G stopped the step)."""
     M = nvel.shape[1]
     st = 2 * M
     srow = 2 * M * nx
@@ -490,10 +472,11 @@ def phase_xpic_start(ctl, nd) -> None:
 
 @njit(cache=True, inline="always")
 def phase_xpic_grid(ctl, pt, grid, nd, bc, pairs, nodes) -> None:
-    """Before G2P: the particles' stencils at the start-of-step positions, the XPIC(m)
-    grid velocity v~ (004 Eq 41-44; m = 1: v+), held to the contact conditions of
-    ``pairs`` on the multimaterial ``nodes`` (mpm/xpic_contact.py) and, CPDI shapes and
-    3D, its extrapolations to the particles."""
+    """Before G2P: the CPDI shapes' node lists at the start-of-step domains (2D
+    tensor-product shapes: the stencils P2G wrote), the XPIC(m) grid velocity v~ (004 Eq
+    41-44; m = 1: v+), held to the contact conditions of ``pairs`` on the multimaterial
+    ``nodes`` (mpm/xpic_contact.py) and, CPDI shapes and 3D, its extrapolations to the
+    particles."""
     if ctl.xpic < 1:
         return
     nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
@@ -501,9 +484,6 @@ def phase_xpic_grid(ctl, pt, grid, nd, bc, pairs, nodes) -> None:
     if cpdi:
         stencils_cpdi(pt.x, pt.F, pt.half_width, grid.origin, grid.cell, grid.nn, grid.kind,
                       pt.xpic_node, pt.xpic_weight)
-    elif pt.x.shape[1] == 2:
-        stencils_2d(pt.x, pt.field, grid.origin, grid.cell, grid.nn, pt.lp, grid.kind,
-                    nd.mass.shape[1], pt.xpic_node, pt.xpic_weight)
     if ctl.xpic == 1:
         nd.xpic[VS] = nd.velocity
     else:

@@ -268,15 +268,17 @@ def test_checkpoint_resume_is_bit_identical_with_xpic(tmp_path, interrupt_mpm):
 
 @pytest.mark.parametrize("kind", [mpm.shape.LINEAR, mpm.shape.UGIMP, mpm.shape.B2])
 def test_projection_passes_equal_the_shape_function_matrices(kind):
-    """The 2D passes on the step's 3 x 3 stencils (mpm/xpic.py stencils_2d) against
-    matrices built particle by particle from mpm.shape.shape_2d: the S+ S pass is
-    sum_p m_p S_ip (S w)_p per field (two series in one loop: the V and Delta v slots),
-    the extrapolations S v~ and S (v~ - v+) of the blend (pic = 1, dt = 1, from V = 0,
-    x = 0). Particles of a 2-per-cell lattice (uGIMP supports within one cell) and
-    displaced ones (supports across a node line) of two fields."""
+    """The 2D passes on the step's 3 x 3 stencils (written by P2G: mpm/kernels.py
+    p2g_range_2d) against matrices built particle by particle from mpm.shape.shape_2d:
+    the S+ S pass is sum_p m_p S_ip (S w)_p per field (two series in one loop: the V and
+    Delta v slots), the extrapolations S v~ and S (v~ - v+) of the blend (pic = 1, dt =
+    1, from V = 0, x = 0). Particles of a 2-per-cell lattice (uGIMP supports within one
+    cell: P2G's 2-node supports in a 3-node window) and displaced ones (supports across
+    a node line) of two fields."""
     import scipy.sparse as sp
 
     from mpm import xpic
+    from mpm.kernels import p2g_range_2d
     from mpm.shape import shape_2d
     rng = np.random.default_rng(4)
     h, nx, ny, M = 1.0, 9, 8, 2
@@ -290,8 +292,11 @@ def test_projection_passes_equal_the_shape_function_matrices(kind):
     field = rng.integers(0, M, P)
     pmass = rng.uniform(0.5, 2.0, P)
     _, node, wgt = xpic.stencil_arrays(P, 2, False, 5)
-    xpic.stencils_2d(x, field, origin, cell, nn, lp, kind, M, node, wgt)
-    assert np.all(node >= 0)
+    nodal = [np.zeros((N, M)), np.zeros((N, M, 2)), np.zeros((N, M, 2))]
+    lost = p2g_range_2d(0, P, x, np.zeros((P, 2)), pmass, np.ones(P), np.zeros((P, 3)), field,
+                        x, origin, cell, nn, lp, kind, False, True, *nodal, nodal[0],
+                        nodal[1], nodal[1], nodal[1], node, wgt)
+    assert lost == -1
     idx, S, G = np.empty(9, np.int64), np.empty(9), np.empty((9, 2))
     rows, cols, vals = [], [], []
     for p in range(P):
