@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from .kernels import assemble_blocks, block_slots, dof_columns, horizon_radius2, within
+from .kernels import assemble_blocks, block_slots, coupled_blocks, dof_columns, horizon_radius2, within
 
 
 @dataclass
@@ -143,7 +143,27 @@ def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float,
     rowptr = np.zeros(n + 1, dtype=np.int64)
     np.add.at(rowptr, r + 1, 1)
     np.cumsum(rowptr, out=rowptr)
-    return Pattern(n, d, rowptr, c.astype(np.int64))
+    return prune_pattern(X, rowptr, c.astype(np.int64), blocks, extra, d)
+
+
+def prune_pattern(X: np.ndarray, rowptr: np.ndarray, cols: np.ndarray, blocks: list[MaterialBlock],
+                  extra: tuple[np.ndarray, np.ndarray] | None, d: int) -> Pattern:
+    """The candidate node pairs (within 2 delta, rows sorted) reduced to those some tuple
+    couples (:func:`kernels.coupled_blocks`), the diagonal and the ``extra`` pairs: the dropped
+    entries are structural zeros that would cost every scatter, product and factorisation."""
+    n = len(rowptr) - 1
+    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(rowptr))
+    flat = rows * n + cols                       # sorted: rows ascending, columns sorted per row
+    keep = np.zeros(len(cols), dtype=np.bool_)
+    keep[np.searchsorted(flat, np.arange(n, dtype=np.int64) * (n + 1))] = True
+    if extra is not None:
+        a, b = np.asarray(extra[0], np.int64), np.asarray(extra[1], np.int64)
+        keep[np.searchsorted(flat, np.concatenate([a * n + b, b * n + a]))] = True
+    for blk in blocks:
+        coupled_blocks(X, blk.centers, blk.nptr, blk.nidx, blk.multi, rowptr, cols, keep)
+    new_ptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows[keep], minlength=n), out=new_ptr[1:])
+    return Pattern(n, d, new_ptr, np.ascontiguousarray(cols[keep]))
 
 
 @dataclass
