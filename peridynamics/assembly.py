@@ -4,8 +4,11 @@ The pattern is block structured (d x d blocks per node pair). A node pair (a, b)
 be coupled only if both lie in {p} + horizon(p) of a common central point p of one
 material, i.e. |X_a - X_b| <= 2 delta for materials with multi-neighbour interactions and
 <= delta for pair-only materials (003 Sec 3.2, Fig 3: the shared overlap DOFs receive
-contributions of both materials, 003 Eq 19, 24). The (row, col) index arrays are built
-once; every Newton iteration only refills the values.
+contributions of both materials, 003 Eq 19, 24). Of these candidates only the pairs that
+a non-degenerate tuple couples are kept (on a grid, pairs at 2 delta and those whose
+common central points are all on their line carry exact zeros: 26 % of the candidates at
+delta = 3.01 h). The (row, col) index arrays are built once; every Newton iteration only
+refills the values.
 """
 from __future__ import annotations
 
@@ -118,9 +121,10 @@ class Pattern:
 
 
 def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float,
-                  extra: tuple[np.ndarray, np.ndarray] | None = None) -> Pattern:
-    """Node pairs that can be coupled by some interaction, union over materials, plus the
-    ``extra`` node pairs (spring ties of the compliant overlap)."""
+                  extra: tuple[np.ndarray, np.ndarray] | None = None, prune: bool = True) -> Pattern:
+    """Node pairs that some interaction couples, union over materials, plus the ``extra``
+    node pairs (spring ties of the compliant overlap): the candidates within 2 delta (delta
+    for pair-only materials), reduced by :func:`prune_pattern` unless ``prune`` is False."""
     n, d = X.shape
     rows = [np.arange(n, dtype=np.int64)]
     cols = [np.arange(n, dtype=np.int64)]
@@ -143,6 +147,8 @@ def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float,
     rowptr = np.zeros(n + 1, dtype=np.int64)
     np.add.at(rowptr, r + 1, 1)
     np.cumsum(rowptr, out=rowptr)
+    if not prune:
+        return Pattern(n, d, rowptr, c.astype(np.int64))
     return prune_pattern(X, rowptr, c.astype(np.int64), blocks, extra, d)
 
 
