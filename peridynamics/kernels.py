@@ -396,6 +396,33 @@ def _close_central(Kloc, f_loc, nl, d):
 
 
 @njit(cache=True)
+def _close_central_pairs(Kloc, f_loc, nl, d):
+    """:func:`_close_central` for a block-diagonal neighbour part of Kloc (a pair-only
+    material): K_mp = K_pm = -K_mm and K_pp = sum_m K_mm, the same sums without their zero
+    terms (the pair tangent of the Newton preconditioner, 3x faster)."""
+    for al in range(d):
+        s = 0.0
+        for m in range(1, nl):
+            s += f_loc[m * d + al]
+        f_loc[al] = -s
+    if Kloc.shape[0] == 0:
+        return
+    for al in range(d):
+        for be in range(d):
+            Kloc[al, be] = 0.0
+    for m in range(1, nl):
+        for al in range(d):
+            for be in range(d):
+                v = Kloc[m * d + al, m * d + be]
+                Kloc[m * d + al, be] = -v
+                Kloc[be, m * d + al] = -v
+    for m in range(1, nl):
+        for al in range(d):
+            for be in range(d):
+                Kloc[al, be] -= Kloc[m * d + al, be]
+
+
+@njit(cache=True)
 def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, slots, s0, data):
     """Add the dense local tangent of one central point into the block CSR ``data``.
 
@@ -506,7 +533,7 @@ def dof_columns(rowptr, cols, d, indptr):
 
 
 @njit(cache=True)
-def block_slots(centers, nptr, nidx, rowptr, cols):
+def block_slots(centers, nptr, nidx, rowptr, cols, multi=True):
     """Where each block of each central point's local tangent goes in the fixed pattern.
 
     For central point c with local nodes (p, then its neighbours nidx[nptr[c]:nptr[c+1]]),
@@ -514,7 +541,8 @@ def block_slots(centers, nptr, nidx, rowptr, cols):
     nodes[m] (kk - rowptr[nodes[m]] in the notation of :func:`_scatter`). Built once per
     pattern with the binary searches that :func:`_scatter` would otherwise repeat at every
     tangent evaluation; int32, sum over c of nl^2 entries, -1 for a block outside the pattern
-    (neighbour-neighbour blocks of a pair-only material, never written).
+    (neighbour-neighbour blocks of a pair-only material, ``multi`` False: not searched, never
+    written; pairs that no tuple couples, see :func:`coupled_blocks`).
     """
     M = centers.shape[0]
     sptr = np.zeros(M + 1, np.int64)
@@ -529,6 +557,9 @@ def block_slots(centers, nptr, nidx, rowptr, cols):
             a = centers[c] if m == 0 else nidx[s0 + m - 1]
             r0 = rowptr[a]
             for n in range(nl):
+                if not multi and m != 0 and n != 0 and m != n:
+                    slots[sptr[c] + m * nl + n] = -1        # never written (see _scatter)
+                    continue
                 b = centers[c] if n == 0 else nidx[s0 + n - 1]
                 kk = _find(cols, r0, rowptr[a + 1], b)
                 slots[sptr[c] + m * nl + n] = kk - r0 if kk >= 0 else -1
@@ -749,7 +780,10 @@ def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent,
             e_node[nodes[m]] += e_loc[m]
         if want_tangent and d == 3 and C3[c] != 0.0:
             _mirror_upper(Kloc, nl, d)
-        _close_central(Kloc, f_loc, nl, d)
+        if full:
+            _close_central(Kloc, f_loc, nl, d)
+        else:
+            _close_central_pairs(Kloc, f_loc, nl, d)
         for m in range(nl):
             for al in range(d):
                 f[nodes[m], al] += f_loc[m * d + al]
