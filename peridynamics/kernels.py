@@ -423,6 +423,34 @@ def _close_central_pairs(Kloc, f_loc, nl, d):
 
 
 @njit(cache=True)
+def _scatter_2d(Kloc, nodes, nl, full, rowptr, slots, s0, data):
+    """:func:`_scatter` in 2D through the block slots, the 2 x 2 block written out: the
+    compiler then knows the block size (1.2-1.4x faster tangent at 100 x 100 points, set 3,
+    bit-identical)."""
+    for m in range(nl):
+        a = nodes[m]
+        r0 = rowptr[a]
+        nb2 = 2 * (rowptr[a + 1] - r0)           # entries per DOF row of node row a
+        sm = s0 + m * nl
+        i0 = 2 * m
+        for n in range(nl):
+            if not full and m != 0 and n != 0 and m != n:
+                continue
+            kk = slots[sm + n]
+            j0 = 2 * n
+            if kk < 0:                          # a pair no tuple couples: zero block
+                if Kloc[i0, j0] != 0.0 or Kloc[i0, j0 + 1] != 0.0 or Kloc[i0 + 1, j0] != 0.0 \
+                        or Kloc[i0 + 1, j0 + 1] != 0.0:
+                    raise ValueError("tangent block outside the precomputed sparsity pattern")
+                continue
+            base = 4 * r0 + 2 * kk
+            data[base] += Kloc[i0, j0]
+            data[base + 1] += Kloc[i0, j0 + 1]
+            data[base + nb2] += Kloc[i0 + 1, j0]
+            data[base + nb2 + 1] += Kloc[i0 + 1, j0 + 1]
+
+
+@njit(cache=True)
 def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, slots, s0, data):
     """Add the dense local tangent of one central point into the block CSR ``data``.
 
@@ -436,6 +464,9 @@ def _scatter(Kloc, nodes, nl, d, full, rowptr, cols, slots, s0, data):
     skipped; a non-zero one raises.
     """
     mapped = slots.shape[0] > 0
+    if d == 2 and mapped:
+        _scatter_2d(Kloc, nodes, nl, full, rowptr, slots, s0, data)
+        return
     for m in range(nl):
         a = nodes[m]
         r0 = rowptr[a]
