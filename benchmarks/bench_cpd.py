@@ -11,7 +11,12 @@ iteration as the Newton loop runs it after the first one: the next tangent assem
 solved to the inexact-Newton forcing term with the factors of the first tangent reused as
 the Krylov preconditioner; and a whole Newton
 solve (1 and 3 load steps: iterations, residual history, factorisations, Krylov
-iterations, time per iteration). Three sizes (h = 0.02, 0.0141, 0.01). Times are the
+iterations, time per iteration), with the default preconditioner of each tree. Trees with
+``peridynamics.preconditioner`` also report the fresh iteration of the default inexact
+Newton step: the pair part of the tangent evaluated and reduced, its float32 Cholesky,
+and CG on the exact tangent to the first forcing term (``iteration(fresh, pairs)``;
+"fresh iteration old / pair-preconditioned" compares it with the old tree's fresh
+iteration). Three sizes (h = 0.02, 0.0141, 0.01). Times are the
 best of a few repetitions, wall clock and process CPU time (the machine is shared: CPU
 time is what one core spends). With ``--old PATH`` (a checkout of the previous commit,
 e.g. ``git worktree add --detach /tmp/cpd_old main``) the same measurement runs on that
@@ -76,7 +81,12 @@ def measure(h: float, delta_factor: float = 3.01) -> dict:
     u = u_bar.copy()
     system.evaluate(u, True)                                     # JIT warm-up (cached kernels)
     _timed(row, "residual", lambda: system.evaluate(u, False))
-    ev = _timed(row, "tangent_assembly", lambda: system.evaluate(u, True))
+    try:                                  # into one refilled buffer, as the Newton loop assembles
+        system.evaluate(u, False, out=None)
+        tangent_buffer = {"out": np.empty(system.pattern.nnz)}
+    except TypeError:                     # trees without it
+        tangent_buffer = {}
+    ev = _timed(row, "tangent_assembly", lambda: system.evaluate(u, True, **tangent_buffer))
     K = _timed(row, "reduce", lambda: red(ev.tangent.data))
     R = ev.residual.ravel()[free]
     solver = TangentSolver(reuse=True)

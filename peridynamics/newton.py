@@ -13,10 +13,43 @@ diverging iterations; a step that still fails is bisected (``max_cuts`` times) b
 
 The Newton step is inexact: K(u_k) du = -R_k is solved to the relative residual of
 :func:`forcing` (which keeps the quadratic rate) by conjugate gradients on the current
-exact tangent, preconditioned by the factors of an earlier tangent
-(:class:`TangentSolver`): one factorisation serves all iterations and load steps while
-the tangent stays close to it, so an iteration costs one tangent assembly and a few
-triangular solves.
+exact tangent (:class:`TangentSolver`), preconditioned by float32 Cholesky factors of the
+pair part of the tangent (``NewtonOptions.preconditioner = "pairs"``, the default where
+:func:`peridynamics.preconditioner.pair_preconditioner_applies`: 2D, load control) or of
+an earlier tangent itself (``"tangent"``, and after any failure of the pair factors): one
+factorisation serves all iterations and load steps while the tangent stays close to it,
+so an iteration costs one tangent assembly and a few triangular solves.
+
+Measured (``benchmarks/bench_cpd.py --old``, bimaterial square, set 3, delta = 3.01 h,
+one core, CPU seconds, both trees in one run at load 4.5 on 2 cores; figures in
+``bench_cpd.json``). The fresh-factorisation iteration (assembly + reduction + factors +
+solve to the first forcing term) at 100 x 100 points (10.6k points, 19.6k free DOFs):
+0.39 s with the pair factors (tangent assembly 0.19, reduction 0.008, pair tangent
+0.061, its float32 Cholesky 0.084, 2 CG iterations to 1e-3: 0.131 with the factorisation)
+against 0.62 s before (assembly 0.21, factorisation 0.33 of the whole tangent, solve
+0.40): 1.60x, not the 0.3 s asked; over 2.8k / 5.3k / 10.6k points 0.071 / 0.174 /
+0.389 s (before 0.101 / 0.278 / 0.623; 1.42x / 1.59x / 1.60x). Whole solves: 3 Newton
+iterations (1 load step) and 5 (3 steps) as before, residual histories equal to the
+forcing terms' accuracy (10.6k points: 1, 9.5e-3, 9.6e-7, 1.0e-13 against 1, 9.8e-3,
+7.7e-7, 1.8e-13), CG iterations 14 / 31 instead of 5 / 8, no factorisation of the
+tangent; CPU 1.01-1.40x (1 step) and 1.03-1.57x (3 steps) faster over the three sizes in
+that run (1.09x / 1.03x at 10.6k points; 1.15-1.29x in two earlier runs).
+
+Tried and not kept (100 x 100 points, same load):
+
+* smoothed-aggregation AMG (pyamg 5.4.1, which installs from a wheel) as the CG
+  preconditioner: setup 0.9-1.0 s, 73 CG iterations to 1e-10 (2.6 s) with the default
+  near-null space, 16 (0.64 s) with the three rigid-body modes: several times the float32
+  factorisation (0.3 s); not added as a dependency;
+* the tangent restricted to the pairs within 1.5 delta or delta (with or without the
+  dropped entries lumped on the diagonal): indefinite (Cholesky fails, CG fails);
+* a pair part of shorter horizon (2.5 h, 2.01 h, 1.5 h, C1 scaled to keep mu): float32
+  factorisation 0.056 / 0.042 / 0.019 s instead of 0.104 s, but 3 / 6 / 8 CG iterations to
+  1e-3 and 15 / 24 / 29 to 1e-10 instead of 2 and 12: at 2.5 h the fresh iteration is
+  0.04 s faster and every later one slower;
+* dropping the 26 % exact zeros of the 2-delta pattern (kept: products and reduction
+  25-40 % faster) leaves the factorisation time unchanged (0.34-0.40 s either way: the
+  fill is the same).
 """
 from __future__ import annotations
 

@@ -9,12 +9,14 @@ whole tangent (both are elasticity operators: shear modulus mu, 003 Eq 25, and a
 part of the same sign), and a quarter as wide. Its float32 Cholesky factors precondition
 conjugate gradients on the exact tangent (:class:`peridynamics.newton.TangentSolver`).
 
-Measured at 100 x 100 points, delta = 3.01 h, set 3, one core (19.6k free DOFs): the pair
-tangent has 1.11M stored entries (the whole one 3.47M), its float32 Cholesky takes
-0.10 s (the whole one 0.29-0.40 s) and its triangular solve 8 ms; CG on the exact tangent
-with it reaches 1e-10 in 12 iterations, the inexact-Newton forcing terms (1e-3, 1e-4,
-1e-5) in 2, 4 and 8; the Newton residual histories equal those of the direct factors to
-the forcing terms' accuracy (quadratic, 3 iterations).
+Measured at 100 x 100 points, delta = 3.01 h, set 3, one core, under load (19.6k free
+DOFs): the pair tangent has 1.11M stored entries (the whole one 3.47M) and is evaluated
+and reduced in 0.04-0.06 s, its float32 Cholesky takes 0.08-0.10 s (the whole tangent's
+0.33-0.40 s) and its triangular solve 6-8 ms; CG on the exact tangent with it reaches
+1e-10 in 12 iterations, the forcing terms of the three Newton iterations (1e-3, 1e-4,
+1e-6) in 2, 4 and 8; the Newton residual histories equal those of the tangent's own
+factors to the forcing terms' accuracy (quadratic, 3 iterations). Whole-solve figures and
+what else was tried: :mod:`peridynamics.newton`.
 """
 from __future__ import annotations
 
