@@ -21,19 +21,20 @@ factorisation serves all iterations and load steps while the tangent stays close
 so an iteration costs one tangent assembly and a few triangular solves.
 
 Measured (``benchmarks/bench_cpd.py --old``, bimaterial square, set 3, delta = 3.01 h,
-one core, CPU seconds, both trees in one run at load 4.5 on 2 cores; figures in
-``bench_cpd.json``). The fresh-factorisation iteration (assembly + reduction + factors +
-solve to the first forcing term) at 100 x 100 points (10.6k points, 19.6k free DOFs):
-0.39 s with the pair factors (tangent assembly 0.19, reduction 0.008, pair tangent
-0.061, its float32 Cholesky 0.084, 2 CG iterations to 1e-3: 0.131 with the factorisation)
-against 0.62 s before (assembly 0.21, factorisation 0.33 of the whole tangent, solve
-0.40): 1.60x, not the 0.3 s asked; over 2.8k / 5.3k / 10.6k points 0.071 / 0.174 /
-0.389 s (before 0.101 / 0.278 / 0.623; 1.42x / 1.59x / 1.60x). Whole solves: 3 Newton
-iterations (1 load step) and 5 (3 steps) as before, residual histories equal to the
-forcing terms' accuracy (10.6k points: 1, 9.5e-3, 9.6e-7, 1.0e-13 against 1, 9.8e-3,
-7.7e-7, 1.8e-13), CG iterations 14 / 31 instead of 5 / 8, no factorisation of the
-tangent; CPU 1.01-1.40x (1 step) and 1.03-1.57x (3 steps) faster over the three sizes in
-that run (1.09x / 1.03x at 10.6k points; 1.15-1.29x in two earlier runs).
+one core, CPU seconds, both trees in one run; two runs at load 3.7 and 4.5 on 2 cores,
+the first in ``bench_cpd.json``). The fresh-factorisation iteration (assembly + reduction
++ factors + solve to the first forcing term) at 100 x 100 points (10.6k points, 19.6k
+free DOFs): 0.314 / 0.389 s with the pair factors (tangent assembly 0.156 / 0.189,
+reduction 0.008, pair tangent 0.047 / 0.061, its float32 Cholesky 0.081 / 0.084, with 2 CG
+iterations to 1e-3 0.103 / 0.131) against 0.700 / 0.623 s before (assembly 0.268 / 0.210,
+factorisation of the whole tangent 0.385 / 0.329, solve 0.419 / 0.403): 2.23x / 1.60x,
+not the 0.3 s asked. Over 2.8k / 5.3k / 10.6k points: 0.077 / 0.164 / 0.314 s (before
+0.112 / 0.269 / 0.700) and 0.071 / 0.174 / 0.389 s (0.101 / 0.278 / 0.623). Whole solves:
+3 Newton iterations (1 load step) and 5 (3 steps) as before, residual histories equal to
+the forcing terms' accuracy (10.6k points: 1, 9.5e-3, 9.6e-7, 1.0e-13 against 1, 9.8e-3,
+7.7e-7, 1.8e-13), CG iterations 14 / 31 instead of 5 / 8, no factorisation of the tangent;
+1.44x / 1.63x faster at 10.6k points in the first run, 1.09x / 1.03x in the second
+(1.0-1.8x over the three sizes and both runs).
 
 Tried and not kept (100 x 100 points, same load):
 
