@@ -48,7 +48,7 @@ Tried and not kept (100 x 100 points, same load):
   factorisation 0.056 / 0.042 / 0.019 s instead of 0.104 s, but 3 / 6 / 8 CG iterations to
   1e-3 and 15 / 24 / 29 to 1e-10 instead of 2 and 12: at 2.5 h the fresh iteration is
   0.04 s faster and every later one slower;
-* dropping the 26 % exact zeros of the 2-delta pattern (kept: products and reduction
+* dropping the 17 % structurally zero entries of the 2-delta pattern (kept: products and reduction
   25-40 % faster) leaves the factorisation time unchanged (0.34-0.40 s either way: the
   fill is the same).
 """
