@@ -11,7 +11,12 @@ iteration as the Newton loop runs it after the first one: the next tangent assem
 solved to the inexact-Newton forcing term with the factors of the first tangent reused as
 the Krylov preconditioner; and a whole Newton
 solve (1 and 3 load steps: iterations, residual history, factorisations, Krylov
-iterations, time per iteration). Three sizes (h = 0.02, 0.0141, 0.01). Times are the
+iterations, time per iteration), with the default preconditioner of each tree. Trees with
+``peridynamics.preconditioner`` also report the fresh iteration of the default inexact
+Newton step: the pair part of the tangent evaluated and reduced, its float32 Cholesky,
+and CG on the exact tangent to the first forcing term (``iteration(fresh, pairs)``;
+"fresh iteration old / pair-preconditioned" compares it with the old tree's fresh
+iteration). Three sizes (h = 0.02, 0.0141, 0.01). Times are the
 best of a few repetitions, wall clock and process CPU time (the machine is shared: CPU
 time is what one core spends). With ``--old PATH`` (a checkout of the previous commit,
 e.g. ``git worktree add --detach /tmp/cpd_old main``) the same measurement runs on that
@@ -76,7 +81,12 @@ def measure(h: float, delta_factor: float = 3.01) -> dict:
     u = u_bar.copy()
     system.evaluate(u, True)                                     # JIT warm-up (cached kernels)
     _timed(row, "residual", lambda: system.evaluate(u, False))
-    ev = _timed(row, "tangent_assembly", lambda: system.evaluate(u, True))
+    try:                                  # into one refilled buffer, as the Newton loop assembles
+        system.evaluate(u, False, out=None)
+        tangent_buffer = {"out": np.empty(system.pattern.nnz)}
+    except TypeError:                     # trees without it
+        tangent_buffer = {}
+    ev = _timed(row, "tangent_assembly", lambda: system.evaluate(u, True, **tangent_buffer))
     K = _timed(row, "reduce", lambda: red(ev.tangent.data))
     R = ev.residual.ravel()[free]
     solver = TangentSolver(reuse=True)
@@ -99,6 +109,7 @@ def measure(h: float, delta_factor: float = 3.01) -> dict:
     for clock in ("time", "cpu"):         # assembly + reduction + factorisation + solve(s)
         row[f"{clock}_newton_iteration_fresh_factorization_s"] = (
             row[f"{clock}_tangent_assembly_s"] + row[f"{clock}_reduce_s"] + row[f"{clock}_fresh_linear_solve_s"])
+    _pair_preconditioner(row, system, free, u, K, R)
     # the second Newton iteration as the loop runs it: assemble at the new iterate, solve
     # to the forcing term with the factors of the first tangent as preconditioner
     v = u.copy()
@@ -151,6 +162,40 @@ def measure(h: float, delta_factor: float = 3.01) -> dict:
     return row
 
 
+def _pair_preconditioner(row: dict, system, free, u, K, R) -> None:
+    """The fresh iteration of the default inexact Newton step (trees with
+    ``peridynamics.preconditioner``): the pair part of the tangent evaluated and reduced,
+    its float32 Cholesky, CG on the exact tangent to the first forcing term (1e-3) and to
+    1e-10; the iteration = assembly + reduction + pair tangent + factorisation + CG."""
+    import numpy as np
+
+    try:
+        from peridynamics.preconditioner import PairTangent
+        from peridynamics.newton import TangentSolver
+    except ImportError:
+        return
+    pairs = _timed(row, "pair_tangent_build", lambda: PairTangent(system, free), 1)
+    P = _timed(row, "pair_tangent", lambda: pairs(u))
+    solver = TangentSolver(reuse=True)
+    solver.solve(K, -R, rtol=1e-3, approx=lambda: P)            # analysis of P's pattern
+    _timed(row, "pair_factorization", lambda: solver.approx_direct.factorize(P))
+    for tag, rtol in (("", 1e-3), ("_1e-10", 1e-10)):
+        before = solver.stats["krylov_iterations"]
+
+        def fresh():
+            solver.factored = False
+            return solver.solve(K, -R, rtol=rtol, approx=lambda: P)
+
+        x = _timed(row, f"pair_fresh_linear_solve{tag}", fresh)
+        row[f"pair_fresh_krylov_iterations{tag}"] = (solver.stats["krylov_iterations"] - before) / 3
+        row[f"pair_fresh_relative_residual{tag}"] = float(np.linalg.norm(K @ x + R) / np.linalg.norm(R))
+    row["pair_reduced_nnz"] = int(P.nnz)
+    for clock in ("time", "cpu"):
+        row[f"{clock}_newton_iteration_fresh_pairs_s"] = (
+            row[f"{clock}_tangent_assembly_s"] + row[f"{clock}_reduce_s"] + row[f"{clock}_pair_tangent_s"]
+            + row[f"{clock}_pair_fresh_linear_solve_s"])
+
+
 def _run_in(tree: Path, h: float) -> dict:
     env = dict(os.environ, PYTHONPATH=str(tree))
     code = (f"import json, sys; sys.path.insert(0, {str(tree)!r}); sys.path.insert(0, {str(ROOT / 'benchmarks')!r}); "
@@ -162,7 +207,15 @@ def _run_in(tree: Path, h: float) -> dict:
 
 def _line(tag: str, r: dict) -> str:
     n3 = r["newton_3_steps"]
-    return (f"{tag} h={r['h']:g} points={r['grid_points']} dofs={r['free_dofs']} nnz={r['reduced_nnz']} "
+    pairs = ""
+    if "cpu_newton_iteration_fresh_pairs_s" in r:
+        pairs = (f" | pair preconditioner ({r['pair_reduced_nnz']} nnz): tangent={r['cpu_pair_tangent_s']:.3f} "
+                 f"factor={r['cpu_pair_factorization_s']:.3f} fresh-solve={r['cpu_pair_fresh_linear_solve_s']:.3f} "
+                 f"({r['pair_fresh_krylov_iterations']:.0f} CG its to 1e-3, "
+                 f"{r['pair_fresh_krylov_iterations_1e-10']:.0f} to 1e-10 in "
+                 f"{r['cpu_pair_fresh_linear_solve_1e-10_s']:.3f}) "
+                 f"iteration(fresh, pairs)={r['cpu_newton_iteration_fresh_pairs_s']:.3f}")
+    base = (f"{tag} h={r['h']:g} points={r['grid_points']} dofs={r['free_dofs']} nnz={r['reduced_nnz']} "
             f"solver={r['solver']} | cpu: assembly={r['cpu_tangent_assembly_s']:.3f} reduce={r['cpu_reduce_s']:.3f} "
             f"factor={r['cpu_factorization_s']:.3f} ({r.get('factorization_method', 'ldlt')}, "
             f"{r.get('factor_precision', 'double')}) tri-solve={r['cpu_triangular_solve_s']:.4f} "
@@ -175,6 +228,7 @@ def _line(tag: str, r: dict) -> str:
             f"{n3['cpu_s']:.2f} s cpu, {n3['cpu_per_iteration_s']:.3f} s/it, "
             f"{n3['linear']['factorizations']} factorisations"
             + (f", per-iteration cpu {_fmt(n3['iteration_cpu_s'])}" if n3["iteration_cpu_s"][0] else ""))
+    return base + pairs
 
 
 def _fmt(steps) -> str:
@@ -198,6 +252,9 @@ def main(argv=None) -> dict:
             for steps in (1, 3):
                 key = f"newton_{steps}_steps"
                 row["ratio_old_over_new"][f"{key}_cpu"] = old[key]["cpu_s"] / row["new"][key]["cpu_s"]
+            if "cpu_newton_iteration_fresh_pairs_s" in row["new"]:   # old fresh iteration / new default one
+                row["ratio_old_over_new"]["cpu_fresh_iteration_old_over_pairs"] = (
+                    old["cpu_newton_iteration_fresh_factorization_s"] / row["new"]["cpu_newton_iteration_fresh_pairs_s"])
         rows.append(row)
         for tag in ("new", "old"):
             if tag in row:
@@ -208,7 +265,9 @@ def main(argv=None) -> dict:
                   f"fresh iteration {rr['cpu_newton_iteration_fresh_factorization_s']:.2f}x, "
                   f"reused iteration {rr['cpu_newton_iteration_reused_factors_s']:.2f}x, "
                   f"triangular solve {rr['cpu_triangular_solve_s']:.2f}x, "
-                  f"Newton solve 1 step {rr['newton_1_steps_cpu']:.2f}x, 3 steps {rr['newton_3_steps_cpu']:.2f}x",
+                  f"Newton solve 1 step {rr['newton_1_steps_cpu']:.2f}x, 3 steps {rr['newton_3_steps_cpu']:.2f}x"
+                  + (f", fresh iteration old / pair-preconditioned {rr['cpu_fresh_iteration_old_over_pairs']:.2f}x"
+                     if "cpu_fresh_iteration_old_over_pairs" in rr else ""),
                   flush=True)
     out = {"case": "bimaterial_square set 3, vertical interface, load case I, delta = 3.01 h, cell grid",
            "threads": {k: os.environ.get(k) for k in ("NUMBA_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")},

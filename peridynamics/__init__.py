@@ -25,7 +25,11 @@ Model (see the module docstrings for the equations):
   time, named in ``diagnostics["linear_solver"]["solver"]``) with the symbolic analysis reused:
   float32 Cholesky factors of the positive definite tangent refined by CG, LDL^T from the
   first indefinite one (``["factorization"]``, ``["cholesky_fallbacks"]``), double precision
-  when CG fails with float32 factors (``["precision_fallbacks"]``).
+  when CG fails with float32 factors (``["precision_fallbacks"]``). In 2D under load
+  control the factors are, by default (option ``preconditioner = "pairs"``), those of the
+  pair part of the tangent (``preconditioner``: a quarter of the stencil, a third of the
+  factorisation), preconditioning CG on the exact tangent to the inexact-Newton forcing
+  term; ``"tangent"`` factorises the tangent itself.
 
 Public surface: :func:`solve` (Case -> Result) and the parameter conversions.
 Units: mm, N, MPa; 2D quantities are per unit thickness times ``case.thickness``.

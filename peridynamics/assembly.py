@@ -4,8 +4,11 @@ The pattern is block structured (d x d blocks per node pair). A node pair (a, b)
 be coupled only if both lie in {p} + horizon(p) of a common central point p of one
 material, i.e. |X_a - X_b| <= 2 delta for materials with multi-neighbour interactions and
 <= delta for pair-only materials (003 Sec 3.2, Fig 3: the shared overlap DOFs receive
-contributions of both materials, 003 Eq 19, 24). The (row, col) index arrays are built
-once; every Newton iteration only refills the values.
+contributions of both materials, 003 Eq 19, 24). Of these candidates only the pairs that
+a non-degenerate tuple couples are kept (on a grid, pairs at 2 delta and those whose
+common central points are all on their line carry exact zeros: 17 % of the candidates at
+delta = 3.01 h). The (row, col) index arrays are built once; every Newton iteration only
+refills the values.
 """
 from __future__ import annotations
 
@@ -15,7 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from .kernels import assemble_blocks, block_slots, dof_columns, horizon_radius2, within
+from .kernels import assemble_blocks, block_slots, coupled_blocks, dof_columns, horizon_radius2, within
 
 
 @dataclass
@@ -118,9 +121,10 @@ class Pattern:
 
 
 def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float,
-                  extra: tuple[np.ndarray, np.ndarray] | None = None) -> Pattern:
-    """Node pairs that can be coupled by some interaction, union over materials, plus the
-    ``extra`` node pairs (spring ties of the compliant overlap)."""
+                  extra: tuple[np.ndarray, np.ndarray] | None = None, prune: bool = True) -> Pattern:
+    """Node pairs that some interaction couples, union over materials, plus the ``extra``
+    node pairs (spring ties of the compliant overlap): the candidates within 2 delta (delta
+    for pair-only materials), reduced by :func:`prune_pattern` unless ``prune`` is False."""
     n, d = X.shape
     rows = [np.arange(n, dtype=np.int64)]
     cols = [np.arange(n, dtype=np.int64)]
@@ -128,7 +132,7 @@ def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float,
         rows += [extra[0], extra[1]]
         cols += [extra[1], extra[0]]
     for blk in blocks:
-        members = np.unique(np.concatenate([blk.centers, blk.nidx]))
+        members = _members(n, blk)
         radius = (2.0 if blk.multi else 1.0) * delta * (1.0 + 1e-9)
         pairs = cKDTree(X[members]).query_pairs(radius, output_type="ndarray")
         a = members[pairs[:, 0]]
@@ -137,13 +141,44 @@ def build_pattern(X: np.ndarray, blocks: list[MaterialBlock], delta: float,
         cols += [b, a]
     r = np.concatenate(rows)
     c = np.concatenate(cols)
-    key = np.unique(r * n + c)
+    key = np.sort(r * n + c)                    # sort + mask: numpy's hashing unique is 10x slower here
+    key = key[np.r_[True, key[1:] != key[:-1]]]
     r = key // n
     c = key % n
     rowptr = np.zeros(n + 1, dtype=np.int64)
     np.add.at(rowptr, r + 1, 1)
     np.cumsum(rowptr, out=rowptr)
-    return Pattern(n, d, rowptr, c.astype(np.int64))
+    if not prune:
+        return Pattern(n, d, rowptr, c.astype(np.int64))
+    return prune_pattern(X, rowptr, c.astype(np.int64), blocks, extra, d)
+
+
+def _members(n: int, blk: MaterialBlock) -> np.ndarray:
+    """Sorted node ids of the central points of ``blk`` and their neighbours."""
+    mask = np.zeros(n, dtype=np.bool_)
+    mask[blk.centers] = True
+    mask[blk.nidx] = True
+    return np.flatnonzero(mask)
+
+
+def prune_pattern(X: np.ndarray, rowptr: np.ndarray, cols: np.ndarray, blocks: list[MaterialBlock],
+                  extra: tuple[np.ndarray, np.ndarray] | None, d: int) -> Pattern:
+    """The candidate node pairs (within 2 delta, rows sorted) reduced to those some tuple
+    couples (:func:`kernels.coupled_blocks`), the diagonal and the ``extra`` pairs: the dropped
+    entries are structural zeros that would cost every scatter, product and factorisation."""
+    n = len(rowptr) - 1
+    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(rowptr))
+    flat = rows * n + cols                       # sorted: rows ascending, columns sorted per row
+    keep = np.zeros(len(cols), dtype=np.bool_)
+    keep[np.searchsorted(flat, np.arange(n, dtype=np.int64) * (n + 1))] = True
+    if extra is not None:
+        a, b = np.asarray(extra[0], np.int64), np.asarray(extra[1], np.int64)
+        keep[np.searchsorted(flat, np.concatenate([a * n + b, b * n + a]))] = True
+    for blk in blocks:
+        coupled_blocks(X, blk.centers, blk.nptr, blk.nidx, blk.multi, rowptr, cols, keep)
+    new_ptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows[keep], minlength=n), out=new_ptr[1:])
+    return Pattern(n, d, new_ptr, np.ascontiguousarray(cols[keep]))
 
 
 @dataclass
@@ -230,7 +265,7 @@ def tangent_slots(blocks: list[MaterialBlock], pattern: Pattern, budget: int = S
     need = sum(4 * int(np.sum((np.diff(b.nptr) + 1) ** 2)) for b in blocks)
     if need > budget:
         return [(np.zeros(0, np.int32), np.zeros(1, np.int64)) for _ in blocks]
-    return [block_slots(b.centers, b.nptr, b.nidx, pattern.rowptr, pattern.cols) for b in blocks]
+    return [block_slots(b.centers, b.nptr, b.nidx, pattern.rowptr, pattern.cols, b.multi) for b in blocks]
 
 
 class CPDSystem:

@@ -13,10 +13,44 @@ diverging iterations; a step that still fails is bisected (``max_cuts`` times) b
 
 The Newton step is inexact: K(u_k) du = -R_k is solved to the relative residual of
 :func:`forcing` (which keeps the quadratic rate) by conjugate gradients on the current
-exact tangent, preconditioned by the factors of an earlier tangent
-(:class:`TangentSolver`): one factorisation serves all iterations and load steps while
-the tangent stays close to it, so an iteration costs one tangent assembly and a few
-triangular solves.
+exact tangent (:class:`TangentSolver`), preconditioned by float32 Cholesky factors of the
+pair part of the tangent (``NewtonOptions.preconditioner = "pairs"``, the default where
+:func:`peridynamics.preconditioner.pair_preconditioner_applies`: 2D, load control) or of
+an earlier tangent itself (``"tangent"``, and after any failure of the pair factors): one
+factorisation serves all iterations and load steps while the tangent stays close to it,
+so an iteration costs one tangent assembly and a few triangular solves.
+
+Measured (``benchmarks/bench_cpd.py --old``, bimaterial square, set 3, delta = 3.01 h,
+one core, CPU seconds, both trees in one run; two runs at load 3.7 and 4.5 on 2 cores,
+the first in ``bench_cpd.json``). The fresh-factorisation iteration (assembly + reduction
++ factors + solve to the first forcing term) at 100 x 100 points (10.6k points, 19.6k
+free DOFs): 0.314 / 0.389 s with the pair factors (tangent assembly 0.156 / 0.189,
+reduction 0.008, pair tangent 0.047 / 0.061, its float32 Cholesky 0.081 / 0.084, with 2 CG
+iterations to 1e-3 0.103 / 0.131) against 0.700 / 0.623 s before (assembly 0.268 / 0.210,
+factorisation of the whole tangent 0.385 / 0.329, solve 0.419 / 0.403): 2.23x / 1.60x,
+not the 0.3 s asked. Over 2.8k / 5.3k / 10.6k points: 0.077 / 0.164 / 0.314 s (before
+0.112 / 0.269 / 0.700) and 0.071 / 0.174 / 0.389 s (0.101 / 0.278 / 0.623). Whole solves:
+3 Newton iterations (1 load step) and 5 (3 steps) as before, residual histories equal to
+the forcing terms' accuracy (10.6k points: 1, 9.5e-3, 9.6e-7, 1.0e-13 against 1, 9.8e-3,
+7.7e-7, 1.8e-13), CG iterations 14 / 31 instead of 5 / 8, no factorisation of the tangent;
+1.44x / 1.63x faster at 10.6k points in the first run, 1.09x / 1.03x in the second
+(1.0-1.8x over the three sizes and both runs).
+
+Tried and not kept (100 x 100 points, same load):
+
+* smoothed-aggregation AMG (pyamg 5.4.1, which installs from a wheel) as the CG
+  preconditioner: setup 0.9-1.0 s, 73 CG iterations to 1e-10 (2.6 s) with the default
+  near-null space, 16 (0.64 s) with the three rigid-body modes: several times the float32
+  factorisation (0.3 s); not added as a dependency;
+* the tangent restricted to the pairs within 1.5 delta or delta (with or without the
+  dropped entries lumped on the diagonal): indefinite (Cholesky fails, CG fails);
+* a pair part of shorter horizon (2.5 h, 2.01 h, 1.5 h, C1 scaled to keep mu): float32
+  factorisation 0.056 / 0.042 / 0.019 s instead of 0.104 s, but 3 / 6 / 8 CG iterations to
+  1e-3 and 15 / 24 / 29 to 1e-10 instead of 2 and 12: at 2.5 h the fresh iteration is
+  0.04 s faster and every later one slower;
+* dropping the 17 % structurally zero entries of the 2-delta pattern (kept: products and reduction
+  25-40 % faster) leaves the factorisation time unchanged (0.34-0.40 s either way: the
+  fill is the same).
 """
 from __future__ import annotations
 
@@ -32,6 +66,7 @@ from interfaces.errors import SolverError
 from interfaces.sparse import DirectSolver, SingularMatrixError
 
 from .assembly import CPDSystem
+from .preconditioner import PairTangent, pair_preconditioner_applies
 from .reduction import ReducedMatrix
 
 log = logging.getLogger(__name__)
@@ -48,6 +83,11 @@ class NewtonOptions:
     max_cuts: int = 6
     line_search: bool = True
     reuse_factorization: bool = True
+    #: what the factors preconditioning the Newton steps' CG are of: ``"pairs"`` the pair part of
+    #: the tangent (:mod:`peridynamics.preconditioner`; where it applies, with load control and
+    #: reused factors; the tangent's own otherwise and after any failure), ``"tangent"`` always
+    #: the tangent's own
+    preconditioner: str = "pairs"
     extrapolate: bool = True
     #: receives one line per evaluation, Newton iteration and line-search trial (residual,
     #: wall time); None sends them to the ``peridynamics.newton`` logger at INFO level
@@ -117,9 +157,22 @@ FACTOR_PRECISION = "single"
 FRESH_RTOL = 1e-10
 
 
+#: ``NewtonOptions.preconditioner`` values
+PRECONDITIONERS = ("pairs", "tangent")
+
+
 class TangentSolver:
     """K du = r for the Newton tangents of one solve: a direct factorisation, reused as the
     preconditioner of a Krylov solve in the following iterations and load steps.
+
+    With ``approx`` (a callable giving a positive definite approximation P of K, see
+    :meth:`solve`) the factorisation is of P, not of K: every system, the first included,
+    is solved by CG on K preconditioned with P's float32 Cholesky factors, to the asked
+    forcing term. P is refactorised (at the current state) when CG needs more than
+    ``approx_refactor_after`` iterations; when P is not positive definite, or CG with its
+    fresh factors fails or needs more than that, the solver factorises K itself from then
+    on. At 100 x 100 CPD points (set 3, :mod:`peridynamics.preconditioner`) the pair part's
+    factors cost a third of the tangent's and CG needs 2-8 iterations instead of 1-2.
 
     Factorisations go through :class:`interfaces.sparse.DirectSolver` (PARDISO where it
     loads, SuperLU otherwise, chosen at run time; ``name`` says which); the
@@ -147,8 +200,11 @@ class TangentSolver:
     """
 
     def __init__(self, reuse: bool = True, rtol: float = 1e-12, max_krylov: int = 30, kind: str = "auto",
-                 refactor_after: int = 8, precision: str | None = None):
+                 refactor_after: int = 8, precision: str | None = None, approx_refactor_after: int = 20):
         self.reuse = reuse
+        self.approx_refactor_after = approx_refactor_after
+        self.use_approx = True
+        self.approx_direct: DirectSolver | None = None
         self.rtol = rtol
         self.max_krylov = max_krylov
         self.refactor_after = refactor_after
@@ -159,13 +215,14 @@ class TangentSolver:
         precision = FACTOR_PRECISION if precision is None else precision
         self.precision = precision if reuse else "double"     # only the Krylov loop refines float32 solves
         self.direct = self._direct()
+        self.active = self.direct                # whose factors precondition the Krylov loop
         if self.direct.name != "pardiso":
             self.precision = "double"
         self.factored = False
         self.definite = True
         self.stale = False
         self.stats = {"factorizations": 0, "krylov_solves": 0, "krylov_iterations": 0, "precision_fallbacks": 0,
-                      "krylov_method": None}
+                      "krylov_method": None, "approx_factorizations": 0, "approx_fallbacks": 0}
         self.times = {"factorization": 0.0, "triangular_solves": 0.0, "krylov": 0.0}
 
     def _direct(self) -> DirectSolver:
@@ -184,6 +241,7 @@ class TangentSolver:
             raise RuntimeError(str(e)) from None
         self.factored = True
         self.stale = False
+        self.active = self.direct
         self.definite = self.direct.negative_pivots() == 0
         self.stats["factorizations"] += 1
         self.times["factorization"] += time.perf_counter() - t0
@@ -196,7 +254,7 @@ class TangentSolver:
 
     def _back(self, r):
         t0 = time.perf_counter()
-        x = self.direct.solve(r)
+        x = self.active.solve(r)
         self.times["triangular_solves"] += time.perf_counter() - t0
         return x
 
@@ -223,16 +281,24 @@ class TangentSolver:
             self.stats["krylov_solves"] += 1
             self.stats["krylov_iterations"] += its
             self.stats["krylov_method"] = "cg" if self.definite else "gmres"
-            self.stale = its > self.refactor_after
+            limit = self.refactor_after if self.active is self.direct else self.approx_refactor_after
+            self.stale = its > limit
         return x
 
-    def solve(self, K, r: np.ndarray, rtol: float | None = None) -> np.ndarray:
-        """Solve K x = r to the relative residual ``rtol`` (default ``self.rtol``)."""
+    def solve(self, K, r: np.ndarray, rtol: float | None = None, approx: Callable | None = None) -> np.ndarray:
+        """Solve K x = r to the relative residual ``rtol`` (default ``self.rtol``); ``approx()``
+        returns the positive definite approximation of K to factorise instead of K (None: K)."""
         rtol = self.rtol if rtol is None else max(rtol, self.rtol)
         if self.factored and self.reuse and not self.stale:
             x = self._krylov(K, r, rtol)
             if x is not None:
                 return x
+        if approx is not None and self.reuse and self.use_approx:
+            x = self._approx_solve(K, r, rtol, approx)
+            if x is not None:
+                return x
+            self.use_approx = False
+            self.stats["approx_fallbacks"] += 1
         self._factor(K)
         if self.reuse:                   # fresh factors: no Krylov iteration in double precision
             single = self.direct.precision == "single"
@@ -244,6 +310,34 @@ class TangentSolver:
         x = self._back(r)
         # one step of iterative refinement
         x += self._back(r - K @ x)
+        return x
+
+    def _approx_solve(self, K, r: np.ndarray, rtol: float, approx: Callable):
+        """CG on K preconditioned by fresh float32 factors of ``approx()`` (PARDISO only); None
+        when those are not positive definite or CG fails. Fresh factors that need more than
+        ``approx_refactor_after`` iterations give their solution but are not tried again."""
+        if self.approx_direct is None:
+            self.approx_direct = DirectSolver(self.kind, ordering="metis", try_cholesky=True,
+                                              ordering_effort=ORDERING_EFFORT, precision="single")
+        if self.approx_direct.name != "pardiso":             # no float32 factors: K's own are as cheap
+            return None
+        t0 = time.perf_counter()
+        try:
+            self.approx_direct.factorize(approx())
+        except SingularMatrixError:
+            return None
+        finally:
+            self.times["factorization"] += time.perf_counter() - t0
+        self.stats["approx_factorizations"] += 1
+        if self.approx_direct.negative_pivots() != 0:
+            return None
+        self.active, self.factored, self.stale, self.definite = self.approx_direct, True, False, True
+        x = self._krylov(K, r, rtol)
+        if x is None:
+            self.active, self.factored = self.direct, False
+        elif self.stale:
+            self.use_approx = False
+            self.stats["approx_fallbacks"] += 1
         return x
 
     def _double_precision_solve(self, K, r: np.ndarray, rtol: float) -> np.ndarray:
@@ -311,6 +405,12 @@ class Equations:
         self.fext = dofs.reduce(np.asarray(f_ext, dtype=float))
         self.red = ReducedMatrix(system, self.free)
         self.lin = TangentSolver(reuse=opts.reuse_factorization, kind=solver)
+        # the pair part of the tangent as the factorised preconditioner (load control only: the
+        # arc-length driver reads the tangent's inertia from its own factors)
+        use_pairs = (opts.preconditioner == "pairs" and opts.path == "load" and opts.reuse_factorization
+                     and pair_preconditioner_applies(system))
+        self.pairs = PairTangent(system, self.free) if use_pairs else None
+        self._state = (None, None)              # (evaluation with a tangent, its independent DOFs)
         self.times = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
         # one tangent buffer and one reduced-matrix buffer, refilled by every evaluation: only
         # the current tangent is ever used (the factors live in the direct solver)
@@ -326,6 +426,8 @@ class Equations:
     def evaluate(self, v: np.ndarray, tangent: bool):
         t0 = time.perf_counter()
         ev = self.system.evaluate(self.dofs.expand(v), tangent, out=self._tangent_buffer if tangent else None)
+        if tangent:
+            self._state = (ev, v.copy())
         dt = time.perf_counter() - t0
         self.times["assembly" if tangent else "line_search"] += dt
         self.note(f"  {'residual + tangent' if tangent else 'residual only'} evaluated in {dt:.1f} s")
@@ -348,16 +450,23 @@ class Equations:
         """K_ff(ev) x = rhs to the relative residual ``rtol`` (K_ff mapped once per evaluation)."""
         if self._reduced[0] is not ev:
             self._reduced = (ev, self.red(ev.tangent.data, out=self._reduced_buffer))
+        approx = None
+        if self.pairs is not None and self._state[0] is ev:
+            v = self._state[1]
+            approx = lambda: self.pairs(self.dofs.expand(v))     # noqa: E731
         t0 = time.perf_counter()
-        x = self.lin.solve(self._reduced[1], rhs, rtol=rtol)
+        x = self.lin.solve(self._reduced[1], rhs, rtol=rtol, approx=approx)
         self.times["linear_solve"] += time.perf_counter() - t0
         self.note(f"  linear solve in {time.perf_counter() - t0:.1f} s ({self.lin.summary()}, asked {rtol:.1e})")
         return x
 
     def negative_pivots(self) -> int:
         """Negative pivots of the last factorisation (the tangent's negative eigenvalues at the
-        state it was factorised at; -1 before any or when the pivoting hides them)."""
-        return self.lin.direct.negative_pivots() if self.lin.factored else -1
+        state it was factorised at; -1 before any, when the pivoting hides them, or when the
+        factors are of the pair part)."""
+        if not self.lin.factored or self.lin.active is not self.lin.direct:
+            return -1
+        return self.lin.direct.negative_pivots()
 
     def failure(self, lam: float, residuals: list, reason: str) -> StepFailure:
         if self.lin.factored and not self.lin.definite:
@@ -532,6 +641,8 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     """
     if opts.path not in PATHS:
         raise ValueError(f"path must be one of {', '.join(PATHS)}, got {opts.path!r}")
+    if opts.preconditioner not in PRECONDITIONERS:
+        raise ValueError(f"preconditioner must be one of {', '.join(PRECONDITIONERS)}, got {opts.preconditioner!r}")
     eq = Equations(system, fixed_dofs, u_bar, f_ext, opts, solver)
     u = np.zeros(eq.dofs.n)
     if u0 is not None:
@@ -547,7 +658,7 @@ def newton_solve(system: CPDSystem, fixed_dofs: np.ndarray, u_bar: np.ndarray,
     out.u = eq.dofs.expand(u)
     out.timings = eq.times
     lin = eq.lin
-    out.linear = dict(lin.stats, solver=lin.name, symbolic_analyses=lin.direct.stats["analyses"],
+    out.linear = dict(lin.stats, solver=lin.name, preconditioner="pairs" if eq.pairs is not None else "tangent", symbolic_analyses=lin.direct.stats["analyses"],
                       factorization=lin.direct.method, cholesky_fallbacks=lin.direct.stats["cholesky_fallbacks"],
                       **{f"time_{k}": v for k, v in lin.times.items()},
                       failed_attempts=[{"load": f.load, "reason": f.reason, "residuals": f.residuals}

@@ -26,7 +26,7 @@ from interfaces.sparse import KINDS
 from .assembly import CPDSystem, MaterialBlock, neighbour_lists
 from .discretization import Discretization, discretize
 from .interface import Springs, check_laws, split_band
-from .newton import PATHS, NewtonOptions, newton_solve
+from .newton import PATHS, PRECONDITIONERS, NewtonOptions, newton_solve
 from .parameters import calibrate, cpd_from_lame, lattice_ratios
 
 #: tuple count per tangent evaluation above which :func:`solve` warns about the run time
@@ -37,7 +37,7 @@ TUPLE_WARNING = 3e8
 SECONDS_PER_TUPLE = 3.5e-8
 
 OPTIONS = ("h", "delta_factor", "overlap", "load_steps", "tol", "max_iter", "calibration",
-           "constants", "line_search", "grid", "solver", "progress", "path")
+           "constants", "line_search", "grid", "solver", "progress", "path", "preconditioner")
 #: estimated seconds per tangent evaluation above which the Newton progress is printed
 #: (``progress`` None: automatic)
 PROGRESS_AFTER = 10.0
@@ -96,7 +96,10 @@ def _options(case, options: dict) -> dict:
     path = o.get("path", "load")
     if path not in PATHS:
         raise CaseError(f"cpd.path must be one of {', '.join(PATHS)}, got {path!r}")
-    return {"path": path, "h": h, "delta_factor": df, "overlap": ov, "load_steps": steps, "tol": tol,
+    pre = o.get("preconditioner", "pairs")
+    if pre not in PRECONDITIONERS:
+        raise CaseError(f"cpd.preconditioner must be one of {', '.join(PRECONDITIONERS)}, got {pre!r}")
+    return {"path": path, "preconditioner": pre, "h": h, "delta_factor": df, "overlap": ov, "load_steps": steps, "tol": tol,
             "max_iter": int(max_iter), "calibration": cal, "constants": o.get("constants"),
             "line_search": bool(o.get("line_search", True)), "grid": o.get("grid", "vertex"),
             "solver": kind, "progress": _progress_option(o.get("progress"))}
@@ -304,6 +307,7 @@ def solve(case, **options) -> Result:
     nopt = NewtonOptions(load_steps=ls if isinstance(ls, int) else len(ls),
                          load_factors=ls if isinstance(ls, tuple) else (), tol=o["tol"],
                          max_iter=o["max_iter"], line_search=o["line_search"], path=o["path"],
+                         preconditioner=o["preconditioner"],
                          report=(lambda line: print(line, file=sys.stderr, flush=True)) if show else None)
     t0 = time.perf_counter()
     outcome = newton_solve(system, fixed, u_bar, f_ext, nopt, solver=o["solver"])

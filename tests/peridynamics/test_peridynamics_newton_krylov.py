@@ -184,7 +184,8 @@ def test_single_precision_factors_keep_the_newton_history():
     for precision in ("single", "double"):
         newton.FACTOR_PRECISION = precision
         try:
-            runs[precision] = newton_solve(system, fixed, u_bar, f_ext, NewtonOptions(load_steps=2))
+            runs[precision] = newton_solve(system, fixed, u_bar, f_ext,
+                                           NewtonOptions(load_steps=2, preconditioner="tangent"))
         finally:
             newton.FACTOR_PRECISION = "single"
     single, double = runs["single"], runs["double"]
