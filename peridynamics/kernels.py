@@ -365,17 +365,23 @@ def _mirror_upper(Kloc, nl, d):
 
 
 @njit(cache=True)
+def _close_central_force(f_loc, nl, d):
+    """Central point's force: f_p = -sum_m f_m over the neighbour entries of ``f_loc``."""
+    for al in range(d):
+        s = 0.0
+        for m in range(1, nl):
+            s += f_loc[m * d + al]
+        f_loc[al] = -s
+
+
+@njit(cache=True)
 def _close_central(Kloc, f_loc, nl, d):
     """Central rows/columns: f_p = -sum_m f_m, K_mp = -sum_n K_mn, K_pp = sum_mn K_mn.
 
     The neighbour part of Kloc is symmetric, so K_pm = K_mp^T and the column sums are
     the row sums: one contiguous pass over the neighbour rows.
     """
-    for al in range(d):
-        s = 0.0
-        for m in range(1, nl):
-            s += f_loc[m * d + al]
-        f_loc[al] = -s
+    _close_central_force(f_loc, nl, d)
     if Kloc.shape[0] == 0:
         return
     for al in range(d):
@@ -400,11 +406,7 @@ def _close_central_pairs(Kloc, f_loc, nl, d):
     """:func:`_close_central` for a block-diagonal neighbour part of Kloc (a pair-only
     material): K_mp = K_pm = -K_mm and K_pp = sum_m K_mm, the same sums without their zero
     terms (the pair tangent of the Newton preconditioner, 3x faster)."""
-    for al in range(d):
-        s = 0.0
-        for m in range(1, nl):
-            s += f_loc[m * d + al]
-        f_loc[al] = -s
+    _close_central_force(f_loc, nl, d)
     if Kloc.shape[0] == 0:
         return
     for al in range(d):
