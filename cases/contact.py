@@ -275,7 +275,9 @@ def ellipse_compaction(contact: str = "LR", three_material: str = "lump", n: int
         boundary_conditions=bcs,
         measurements={"axial_stress": {"bodies": names, "component": "yy",
                                        "sample_every": duration / 300.0},
-                      "interpenetration": {"bodies": names}},
+                      "interpenetration": {"bodies": names, "container": {
+                          "left": "left_wall", "right": "right_wall", "bottom": "floor",
+                          "top": "piston"}}},
         discretization={"mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "damping": "none",
                                 "max_time": duration, "grid_anchor": "origin",
                                 "rigid_bodies": list(walls), "default_law": "none",

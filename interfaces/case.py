@@ -43,7 +43,7 @@ MEASUREMENTS = {
     "contact_time": {"body": "any", "component": "any", "sample_every": "positive",
                      "threshold": "positive"},
     "axial_stress": {"bodies": "any", "component": "any", "sample_every": "positive"},
-    "interpenetration": {"bodies": "any"},
+    "interpenetration": {"bodies": "any", "container": "any"},
     "shock_front": {"sample_every": "positive", "wall": "any", "window": "any"},
 }
 

@@ -9,6 +9,12 @@ gradient (the CPDI domain; runs that do not track F take the square of the parti
 volume, F = (V / V_0)^(1/D) I). Particles of two materials in contact have touching
 domains, none of their centres inside the other's; a centre inside means the particle
 crossed the contact surface by more than half its size.
+
+Where the bodies fill a container of rigid walls (``container``: the bodies on its
+``left``, ``right``, ``bottom`` and ``top`` sides, 2D), their current area, the sum of
+the particle volumes over the thickness, over the container's current area is the
+measure that still holds when the particle domains are strongly sheared: above 1,
+material overlaps material (``material_area_over_container``).
 """
 from __future__ import annotations
 
@@ -34,12 +40,43 @@ def interpenetration_quantities(case, x: np.ndarray, field: np.ndarray, volume: 
         raise CaseError(f"measurements.interpenetration.bodies must name bodies of {names}, "
                         f"got {bodies!r}")
     members = np.flatnonzero(np.isin(field, [names.index(b) for b in bodies]))
+    out = {}
+    if "container" in spec:
+        area = float(np.sum(volume[members])) / case.thickness
+        out["material_area_over_container"] = area / container_area(
+            spec["container"], names, x, field, np.broadcast_to(np.asarray(spacing, float),
+                                                                (x.shape[1],)))
     D = x.shape[1]
     if F is None:
         F = (np.abs(volume / volume0) ** (1.0 / D))[:, None, None] * np.eye(D)
     half = 0.5 * np.broadcast_to(np.asarray(spacing, float), (D,))
     count = int(inside_other_material(x[members], field[members], F[members], half).sum())
-    return {"interpenetration": count, "interpenetration_fraction": count / max(members.size, 1)}
+    return {"interpenetration": count, "interpenetration_fraction": count / max(members.size, 1),
+            **out}
+
+
+CONTAINER_SIDES = ("left", "right", "bottom", "top")
+
+
+def container_area(sides: dict, names: list, x: np.ndarray, field: np.ndarray,
+                   spacing: np.ndarray) -> float:
+    """Current area of the 2D container whose ``sides`` (``left``, ``right``, ``bottom``,
+    ``top``: body names) are rigid bodies: between the facing edges of their particle
+    domains (centres -+ half the spacing)."""
+    if not isinstance(sides, dict) or sorted(sides) != sorted(CONTAINER_SIDES) \
+            or any(sides[k] not in names for k in CONTAINER_SIDES):
+        raise CaseError(f"measurements.interpenetration.container must name a body of {names} "
+                        f"for each of {', '.join(CONTAINER_SIDES)}, got {sides!r}")
+    if x.shape[1] != 2:
+        raise CaseError("measurements.interpenetration.container is 2D only")
+    h = 0.5 * spacing
+    side = {k: x[field == names.index(sides[k])] for k in CONTAINER_SIDES}
+    width = (side["right"][:, 0].min() - h[0]) - (side["left"][:, 0].max() + h[0])
+    height = (side["top"][:, 1].min() - h[1]) - (side["bottom"][:, 1].max() + h[1])
+    if width <= 0.0 or height <= 0.0:
+        raise CaseError(f"measurements.interpenetration.container: the sides {sides} do not "
+                        f"enclose a region (width {width:.4g}, height {height:.4g} mm)")
+    return float(width * height)
 
 
 def inside_other_material(x: np.ndarray, field: np.ndarray, F: np.ndarray,

@@ -1,7 +1,8 @@
-"""The interpenetration count of 004 Fig 6 (mpm/interpenetration.py): a particle is inside
+"""The interpenetration measures of 004 Fig 6 (mpm/interpenetration.py): a particle is inside
 another material when its centre lies in the deformed domain F_q [-l, l]^D of a particle
-q of that material."""
+q of that material; the bodies' area over the area of the container of rigid walls."""
 import numpy as np
+import pytest
 
 from mpm.interpenetration import inside_other_material
 
@@ -45,3 +46,38 @@ def test_the_domain_follows_the_deformation_gradient():
     assert not inside_other_material(x, field, np.vstack([F_id, F_id]), HALF).any()
     hit = inside_other_material(x, field, np.vstack([F_shear * 1.01, F_id]), HALF)
     assert hit.tolist() == [False, True]
+
+
+def test_container_area_is_between_the_facing_domain_edges():
+    """Walls one particle thick around a 2 x 1 region: the container is the region
+    between their domains' facing edges, whatever their length or overlap at corners."""
+    from interfaces.errors import CaseError
+    from mpm.interpenetration import container_area
+    names = ["left", "right", "floor", "lid"]
+    col = np.arange(-1, 6) * S
+    row = np.arange(-1, 10) * S
+    x = np.vstack([np.c_[np.full(col.size, -0.5 * S), col],          # x in [-S, 0]
+                   np.c_[np.full(col.size, 2.0 + 0.5 * S), col],     # x in [2, 2 + S]
+                   np.c_[row, np.full(row.size, -0.5 * S)],          # y in [-S, 0]
+                   np.c_[row, np.full(row.size, 1.0 + 0.5 * S)]])    # y in [1, 1 + S]
+    field = np.repeat([0, 1, 2, 3], [col.size, col.size, row.size, row.size])
+    sides = {"left": "left", "right": "right", "bottom": "floor", "top": "lid"}
+    assert container_area(sides, names, x, field, np.full(2, S)) == pytest.approx(2.0, rel=1e-12)
+    with pytest.raises(CaseError, match="left, right, bottom, top"):
+        container_area({"left": "left"}, names, x, field, np.full(2, S))
+    with pytest.raises(CaseError, match="do not enclose"):
+        container_area(dict(sides, top="floor"), names, x, field, np.full(2, S))
+
+
+def test_ellipse_compaction_reports_its_area_over_the_box():
+    """Before the piston reaches the ellipses (5 %) their area is the undeformed one and
+    the box is 1 x 1.9 mm."""
+    import cases
+    from cases.methods import run
+    case = cases.build("ellipse_compaction", mpm_cell=0.1, strain=0.05, contact="DF")
+    res = run(case, "mpm", progress=False, shape="cpdi")
+    names = [b.name for b in case.bodies]
+    ell = np.char.startswith(np.array(names)[res.fields["material"]], "ellipse")
+    area = float(np.sum(res.fields["volume"][ell])) / case.thickness
+    assert res.quantities["material_area_over_container"] == pytest.approx(area / 1.9, rel=2e-3)
+    assert 0.5 < area / 1.9 < 0.55
