@@ -40,16 +40,16 @@ def interpenetration_quantities(case, x: np.ndarray, field: np.ndarray, volume: 
         raise CaseError(f"measurements.interpenetration.bodies must name bodies of {names}, "
                         f"got {bodies!r}")
     members = np.flatnonzero(np.isin(field, [names.index(b) for b in bodies]))
+    D = x.shape[1]
+    spacing = np.broadcast_to(np.asarray(spacing, float), (D,))
     out = {}
     if "container" in spec:
         area = float(np.sum(volume[members])) / case.thickness
         out["material_area_over_container"] = area / container_area(
-            spec["container"], names, x, field, np.broadcast_to(np.asarray(spacing, float),
-                                                                (x.shape[1],)))
-    D = x.shape[1]
+            spec["container"], names, x, field, spacing)
     if F is None:
         F = (np.abs(volume / volume0) ** (1.0 / D))[:, None, None] * np.eye(D)
-    half = 0.5 * np.broadcast_to(np.asarray(spacing, float), (D,))
+    half = 0.5 * spacing
     count = int(inside_other_material(x[members], field[members], F[members], half).sum())
     return {"interpenetration": count, "interpenetration_fraction": count / max(members.size, 1),
             **out}

@@ -63,15 +63,17 @@ def test_pair_preconditioned_newton_equals_the_direct_one(steps):
     assert np.abs(pairs.u - direct.u).max() <= 1e-9 * np.abs(direct.u).max()
 
 
+def _random_spd(seed: int, n: int = 300):
+    """A sparse symmetric positive definite K (A A^T + I) and a right-hand side."""
+    A = sp.random(n, n, density=0.02, random_state=seed)
+    return (A @ A.T + sp.identity(n)).tocsr(), np.random.default_rng(seed).standard_normal(n)
+
+
 def test_an_indefinite_approximation_falls_back_to_the_tangent_factors():
     """approx() not positive definite: the solver factorises K itself from then on."""
     from peridynamics.newton import TangentSolver
 
-    rng = np.random.default_rng(5)
-    n = 300
-    A = sp.random(n, n, density=0.02, random_state=5)
-    K = (A @ A.T + sp.identity(n)).tocsr()
-    r = rng.standard_normal(n)
+    K, r = _random_spd(5)
     solver = TangentSolver(reuse=True)
     x = solver.solve(K, r, rtol=1e-10, approx=lambda: (-K).tocsr())
     assert np.linalg.norm(K @ x - r) <= 2e-10 * np.linalg.norm(r)
@@ -84,11 +86,7 @@ def test_an_indefinite_approximation_falls_back_to_the_tangent_factors():
 def test_a_good_approximation_is_reused_and_a_poor_one_given_up():
     from peridynamics.newton import TangentSolver
 
-    rng = np.random.default_rng(6)
-    n = 300
-    A = sp.random(n, n, density=0.02, random_state=6)
-    K = (A @ A.T + sp.identity(n)).tocsr()
-    r = rng.standard_normal(n)
+    K, r = _random_spd(6)
     good = TangentSolver(reuse=True)
     for _ in range(3):
         x = good.solve(K, r, rtol=1e-10, approx=lambda: (K + 0.05 * sp.diags(K.diagonal())).tocsr())
