@@ -274,8 +274,10 @@ def phase_g2p(ctl, pt, grid, nd, blocks, scale):
     the particles moved, so the hoop stretch is r+ / r0). Returns (kinetic, strain
     energy of the linear fields (USL and USF: of every field but the finite-strain
     fields' of USF, added by the caller), external work increment, lost particle or -1,
-    grid kinetic energy)."""
-    nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
+    grid kinetic energy). XPIC(m) runs reuse the nodal kinematics of
+    :func:`mpm.xpic.phase_xpic_grid` (the nodal momenta and forces are those it read)."""
+    if ctl.xpic < 1:
+        nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
     if ctl.mode == MUSL:
         pt.x_before[:] = pt.x
     hoop = ctl.axisymmetric and ctl.mode == USL

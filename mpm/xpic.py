@@ -131,12 +131,42 @@ def stencil_arrays(P: int, D: int, cpdi: bool, xpic: int) -> tuple:
     return np.zeros((2, P, D)), np.zeros((0, 1), np.int64), np.zeros((0, 6))
 
 
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def _window_gather(wf, slot, k, st, srow, w0, w1, w2, q0, q1, q2):
+    """(S w)_p of a 3 x 3 window: node weights w0..w2 (x) times q0..q2 (y), ``k`` the flat
+    index of the window's first node, ``st`` / ``srow`` the flat strides along x / y."""
+    a0 = 0.0
+    a1 = 0.0
+    for jb in range(3):
+        r = k + jb * srow
+        q = _pick(jb, q0, q1, q2)
+        a0 += q * (w0 * wf[slot, r] + w1 * wf[slot, r + st] + w2 * wf[slot, r + 2 * st])
+        a1 += q * (w0 * wf[slot, r + 1] + w1 * wf[slot, r + st + 1]
+                   + w2 * wf[slot, r + 2 * st + 1])
+    return a0, a1
+
+
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def _window_scatter(wf, slot, k, st, srow, w0, w1, w2, q0, q1, q2, a0, a1) -> None:
+    """wf[slot, i] += S_ip (a0, a1) over the 3 x 3 window of :func:`_window_gather` (the
+    particle mass already in the weights)."""
+    for jb in range(3):
+        r = k + jb * srow
+        q = _pick(jb, q0, q1, q2)
+        for ia in range(3):
+            s = _pick(ia, w0, w1, w2) * q
+            c = r + ia * st
+            wf[slot, c] += s * a0
+            wf[slot, c + 1] += s * a1
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _scatter_2d(node, wgt, pmass, nx, M, wf, src, dst, pair) -> None:
+def _scatter_2d(node, wgt, pmass, nx, M, wf, src, dst, pair, band) -> None:
     """The particle loop of :func:`scatter_passes` in 2D on the step's stencils (``wf``:
     the work slots, each flat): dst += sum_p m_p S_ip (S src)_p per field, unnormalised,
     and with ``pair`` = (src2, dst2) the same from src2 into dst2 in the same loop (the
-    stencil read once; ``pair`` None compiles the loop without it)."""
+    stencil read once; ``pair`` None compiles the loop without it) for the particles
+    whose 3 x 3 window is centred on a node of ``band`` (src2 is zero elsewhere)."""
     st = 2 * M              # flat stride between x-neighbours
     srow = 2 * M * nx       # ... and between y-neighbours
     for p in range(node.shape[0]):
@@ -146,43 +176,26 @@ def _scatter_2d(node, wgt, pmass, nx, M, wf, src, dst, pair) -> None:
         w0 = wgt[p, 0]
         w1 = wgt[p, 1]
         w2 = wgt[p, 2]
-        a0 = 0.0
-        a1 = 0.0
-        b0 = 0.0
-        b1 = 0.0
-        for jb in range(3):
-            r = k + jb * srow
-            q = _pick(jb, wgt[p, 3], wgt[p, 4], wgt[p, 5])
-            a0 += q * (w0 * wf[src, r] + w1 * wf[src, r + st] + w2 * wf[src, r + 2 * st])
-            a1 += q * (w0 * wf[src, r + 1] + w1 * wf[src, r + st + 1]
-                       + w2 * wf[src, r + 2 * st + 1])
-            if pair is not None:
-                s2 = pair[0]
-                b0 += q * (w0 * wf[s2, r] + w1 * wf[s2, r + st] + w2 * wf[s2, r + 2 * st])
-                b1 += q * (w0 * wf[s2, r + 1] + w1 * wf[s2, r + st + 1]
-                           + w2 * wf[s2, r + 2 * st + 1])
+        q0 = wgt[p, 3]
+        q1 = wgt[p, 4]
+        q2 = wgt[p, 5]
+        a0, a1 = _window_gather(wf, src, k, st, srow, w0, w1, w2, q0, q1, q2)
         mp = pmass[p]
-        for jb in range(3):
-            r = k + jb * srow
-            q = _pick(jb, wgt[p, 3], wgt[p, 4], wgt[p, 5]) * mp
-            for ia in range(3):
-                s = _pick(ia, w0, w1, w2) * q
-                c = r + ia * st
-                wf[dst, c] += s * a0
-                wf[dst, c + 1] += s * a1
-                if pair is not None:
-                    d2 = pair[1]
-                    wf[d2, c] += s * b0
-                    wf[d2, c + 1] += s * b1
+        _window_scatter(wf, dst, k, st, srow, w0, w1, w2, mp * q0, mp * q1, mp * q2, a0, a1)
+        if pair is not None and band[k // st + nx + 1]:
+            b0, b1 = _window_gather(wf, pair[0], k, st, srow, w0, w1, w2, q0, q1, q2)
+            _window_scatter(wf, pair[1], k, st, srow, w0, w1, w2, mp * q0, mp * q1, mp * q2,
+                            b0, b1)
 
 
 @njit(cache=True)
 def scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst, src2, dst2,
-                   node, wgt) -> None:
+                   node, wgt, band) -> None:
     """dst <- sum_p m_p S_ip (S src)_p (slots of ``work``), each field on its own
     particles: m_i S+_alpha S src before the division by the nodal mass (004 Eq 43-44);
     with ``src2`` >= 0 also dst2 <- the same of src2 (the V and Delta v series of Eq
-    43-44 in one loop over the particles). 2D with the step's stencils ``node``, ``wgt``
+    43-44 in one loop over the particles; in 2D over the particles centred on a node of
+    ``band``, :func:`delta_v_band`). 2D with the step's stencils ``node``, ``wgt``
     (written by P2G, :func:`stencil_arrays`), CPDI shapes with their node lists
     (:func:`stencils_cpdi`), 3D with the any-D loop."""
     work[dst] = 0.0
@@ -196,9 +209,10 @@ def scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst, 
     elif x.shape[1] == 2:
         wf = work.reshape(work.shape[0], -1)
         if src2 >= 0:
-            _scatter_2d(node, wgt, pmass, nn[0], work.shape[2], wf, src, dst, (src2, dst2))
+            _scatter_2d(node, wgt, pmass, nn[0], work.shape[2], wf, src, dst, (src2, dst2),
+                        band)
         else:
-            _scatter_2d(node, wgt, pmass, nn[0], work.shape[2], wf, src, dst, None)
+            _scatter_2d(node, wgt, pmass, nn[0], work.shape[2], wf, src, dst, None, band)
     else:
         _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, dst)
         if src2 >= 0:
@@ -299,20 +313,42 @@ def _gather_list(node, wgt, field, work, nvel, out) -> None:
 
 
 @njit(cache=True)
+def delta_v_band(m, nn, nodes):
+    """The nodes within 2 m - 5 nodes (each axis) of a multimaterial node of ``nodes``
+    (2D grid): Delta v (004 Eq 26) lives on those nodes only and each S+_alpha S of Eq
+    44 spreads it by at most 2 nodes (a particle's 3 x 3 window), so the Delta v series
+    up to Delta v*_{m-2}, the last one scattered, reaches no particle whose window is
+    centred outside this band."""
+    nx, ny = nn[0], nn[1]
+    band = np.zeros(nx * ny, np.bool_)
+    R = max(2 * m - 5, 1)
+    for c in range(nodes.shape[0]):
+        i = nodes[c] % nx
+        j = nodes[c] // nx
+        for jj in range(max(j - R, 0), min(j + R + 1, ny)):
+            for ii in range(max(i - R, 0), min(i + R + 1, nx)):
+                band[jj * nx + ii] = True
+    return band
+
+
+@njit(cache=True)
 def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind, mass,
-                       nacc, dt, work, node, wgt) -> None:
+                       nacc, dt, work, node, wgt, nodes) -> None:
     """v~ = m (v_alpha - v*_alpha) + a_alpha dt into slot VS (004 Eq 41-44); ``work[V0]``
-    and ``work[DV]`` hold v_alpha and Delta v_alpha (:func:`start_fields`). Without
-    ``corrected`` the Delta v terms are left out (the uncorrected variant)."""
+    and ``work[DV]`` hold v_alpha and Delta v_alpha (:func:`start_fields`), the latter
+    non-zero on the multimaterial ``nodes`` only. Without ``corrected`` the Delta v
+    terms are left out (the uncorrected variant)."""
     work[VK] = work[V0]
     if corrected:
         work[DK] = work[DV]
+    band = delta_v_band(m, nn, nodes) if corrected and x.shape[1] == 2 \
+        else np.zeros(0, np.bool_)
     work[VS] = 0.0
     N, M, D = nacc.shape
     for k in range(2, m + 1):
         next_dk = corrected and k < m
         scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, VK, VN,
-                       DK if next_dk else -1, DN, node, wgt)
+                       DK if next_dk else -1, DN, node, wgt, band)
         sign = 1.0 if k % 2 == 0 else -1.0
         cv = (m + 1.0 - k) / k            # Eq 43
         cd = (m - k) / k                  # Eq 44
@@ -492,7 +528,7 @@ def phase_xpic_grid(ctl, pt, grid, nd, bc, pairs, nodes) -> None:
         corrected = ctl.xpic_correction and nd.mass.shape[1] > 1
         xpic_grid_velocity(ctl.xpic, corrected, pt.x, pt.mass, pt.field, grid.origin,
                            grid.cell, grid.nn, pt.lp, grid.kind, mass, nd.acceleration, ctl.dt,
-                           nd.xpic, pt.xpic_node, pt.xpic_weight)
+                           nd.xpic, pt.xpic_node, pt.xpic_weight, nodes)
         if nodes.size:
             contact_grid_velocity(nd.xpic[VS], nd.mass, nd.volume, nd.volume_gradient,
                                   nd.displacement, nd.position, grid.cell, grid.origin, grid.nn,

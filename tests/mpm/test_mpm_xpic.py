@@ -266,26 +266,20 @@ def test_checkpoint_resume_is_bit_identical_with_xpic(tmp_path, interrupt_mpm):
     assert res.diagnostics["history"] == ref.diagnostics["history"]
 
 
-@pytest.mark.parametrize("kind", [mpm.shape.LINEAR, mpm.shape.UGIMP, mpm.shape.B2])
-def test_projection_passes_equal_the_shape_function_matrices(kind):
-    """The 2D passes on the step's 3 x 3 stencils (written by P2G: mpm/kernels.py
-    p2g_range_2d) against matrices built particle by particle from mpm.shape.shape_2d:
-    the S+ S pass is sum_p m_p S_ip (S w)_p per field (two series in one loop: the V and
-    Delta v slots), the extrapolations S v~ and S (v~ - v+) of the blend (pic = 1, dt =
-    1, from V = 0, x = 0). Particles of a 2-per-cell lattice (uGIMP supports within one
-    cell: P2G's 2-node supports in a 3-node window) and displaced ones (supports across
-    a node line) of two fields."""
-    import scipy.sparse as sp
-
+def _stencil_cloud(kind: int, nx: int, ny: int, M: int = 2, seed: int = 4):
+    """Particles of a 2-per-cell lattice over the grid (uGIMP supports within one cell:
+    P2G's 2-node supports in a 3-node window) and 40 displaced ones (supports across a
+    node line), of ``M`` random fields, with their P2G stencils: (x, pmass, field, grid
+    origin, cell, nn, lp, node, wgt)."""
     from mpm import xpic
     from mpm.kernels import p2g_range_2d
-    from mpm.shape import shape_2d
-    rng = np.random.default_rng(4)
-    h, nx, ny, M = 1.0, 9, 8, 2
+    rng = np.random.default_rng(seed)
+    h = 1.0
     origin, cell = np.zeros(2), np.full(2, h)
     nn = np.array([nx, ny])
-    g = (np.arange(2, 12) + 0.5) * 0.5 * h
-    lattice = np.array([(a, b) for a in g[:10] for b in g[:8]])
+    gx = (np.arange(2, 2 * nx - 6) + 0.5) * 0.5 * h
+    gy = (np.arange(2, 2 * ny - 6) + 0.5) * 0.5 * h
+    lattice = np.array([(a, b) for a in gx for b in gy])
     x = np.concatenate([lattice, lattice[:40] + rng.uniform(-0.2, 0.2, (40, 2)) * h])
     P, N = x.shape[0], nx * ny
     lp = np.full(2, 0.25 * h)
@@ -297,6 +291,24 @@ def test_projection_passes_equal_the_shape_function_matrices(kind):
                         x, origin, cell, nn, lp, kind, False, True, *nodal, nodal[0],
                         nodal[1], nodal[1], nodal[1], node, wgt)
     assert lost == -1
+    return x, pmass, field, origin, cell, nn, lp, node, wgt
+
+
+@pytest.mark.parametrize("kind", [mpm.shape.LINEAR, mpm.shape.UGIMP, mpm.shape.B2])
+def test_projection_passes_equal_the_shape_function_matrices(kind):
+    """The 2D passes on the step's 3 x 3 stencils (written by P2G: mpm/kernels.py
+    p2g_range_2d) against matrices built particle by particle from mpm.shape.shape_2d:
+    the S+ S pass is sum_p m_p S_ip (S w)_p per field (two series in one loop: the V and
+    Delta v slots), the extrapolations S v~ and S (v~ - v+) of the blend (pic = 1, dt =
+    1, from V = 0, x = 0), on the particles of :func:`_stencil_cloud`."""
+    import scipy.sparse as sp
+
+    from mpm import xpic
+    from mpm.shape import shape_2d
+    rng = np.random.default_rng(4)
+    nx, ny, M = 9, 8, 2
+    x, pmass, field, origin, cell, nn, lp, node, wgt = _stencil_cloud(kind, nx, ny, M)
+    P, N = x.shape[0], nx * ny
     idx, S, G = np.empty(9, np.int64), np.empty(9), np.empty((9, 2))
     rows, cols, vals = [], [], []
     for p in range(P):
@@ -310,7 +322,7 @@ def test_projection_passes_equal_the_shape_function_matrices(kind):
         work[slot] = rng.standard_normal((N, M, 2))
     nvel = rng.standard_normal((N, M, 2))
     xpic.scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, xpic.VK, xpic.VN,
-                        xpic.DK, xpic.DN, node, wgt)
+                        xpic.DK, xpic.DN, node, wgt, np.ones(N, np.bool_))
     v, xb = np.zeros((P, 2)), np.zeros((P, 2))
     xpic.gather_blend_2d(1.0, 1.0, pmass, v, xb, node, wgt, nx, work, nvel)
     for f in range(M):
@@ -322,3 +334,31 @@ def test_projection_passes_equal_the_shape_function_matrices(kind):
         assert np.allclose(v[mine], (Smat @ work[xpic.VS, :, f])[mine], rtol=1e-13, atol=1e-13)
         assert np.allclose(xb[mine], (Smat @ (work[xpic.VS, :, f] - nvel[:, f]))[mine],
                            rtol=1e-13, atol=1e-13)
+
+
+@pytest.mark.parametrize("m", [3, 5, 8])
+def test_delta_v_series_on_its_band_equals_the_series_over_every_particle(m):
+    """Delta v (004 Eq 26) lives on the multimaterial nodes; the 2D passes scatter its
+    series (Eq 44) only for the particles whose window is centred within 2 m - 5 nodes of
+    one (mpm.xpic.delta_v_band). On a 40 x 12 grid with Delta v on two nodes of one
+    column, v~ equals, bit for bit, the v~ of the series scattered by every particle
+    (the band of all nodes), and the band is narrower than the grid."""
+    from mpm import xpic
+    nx, ny, M = 40, 12, 2
+    x, pmass, field, origin, cell, nn, lp, node, wgt = _stencil_cloud(mpm.shape.UGIMP, nx, ny, M)
+    N = nx * ny
+    rng = np.random.default_rng(5)
+    mass = rng.uniform(1.0, 2.0, (N, M))
+    nacc = rng.standard_normal((N, M, 2))
+    nodes = np.array([5 * nx + 20, 6 * nx + 20])
+    runs = []
+    for band_nodes in (nodes, np.arange(N)):
+        work = np.zeros((xpic.N_SLOTS, N, M, 2))
+        work[xpic.V0] = rng.standard_normal((N, M, 2)) if not runs else runs[0][1]
+        work[xpic.DV, nodes] = np.array([[[0.3, -0.2], [-0.1, 0.4]], [[0.2, 0.1], [0.0, -0.5]]])
+        v0 = work[xpic.V0].copy()
+        xpic.xpic_grid_velocity(m, True, x, pmass, field, origin, cell, nn, lp,
+                                mpm.shape.UGIMP, mass, nacc, 1e-3, work, node, wgt, band_nodes)
+        runs.append((work[xpic.VS].copy(), v0))
+    assert np.array_equal(runs[0][0], runs[1][0])
+    assert xpic.delta_v_band(m, nn, nodes).sum() < N
