@@ -166,9 +166,11 @@ def _scatter_2d(node, wgt, pmass, nx, M, wf, src, dst, pair, band) -> None:
     the work slots, each flat): dst += sum_p m_p S_ip (S src)_p per field, unnormalised,
     and with ``pair`` = (src2, dst2) the same from src2 into dst2 in the same loop (the
     stencil read once; ``pair`` None compiles the loop without it) for the particles
-    whose 3 x 3 window is centred on a node of ``band`` (src2 is zero elsewhere)."""
+    whose 3 x 3 window is centred on a node of ``band`` (src2 is zero elsewhere; ``band``
+    per node and field, flat: node * M + field)."""
     st = 2 * M              # flat stride between x-neighbours
     srow = 2 * M * nx       # ... and between y-neighbours
+    centre = (nx + 1) * M   # band index of the window's centre from its first node's
     for p in range(node.shape[0]):
         k = node[p, 0]
         if k < 0:
@@ -182,7 +184,7 @@ def _scatter_2d(node, wgt, pmass, nx, M, wf, src, dst, pair, band) -> None:
         a0, a1 = _window_gather(wf, src, k, st, srow, w0, w1, w2, q0, q1, q2)
         mp = pmass[p]
         _window_scatter(wf, dst, k, st, srow, w0, w1, w2, mp * q0, mp * q1, mp * q2, a0, a1)
-        if pair is not None and band[k // st + nx + 1]:
+        if pair is not None and band[(k >> 1) + centre]:
             b0, b1 = _window_gather(wf, pair[0], k, st, srow, w0, w1, w2, q0, q1, q2)
             _window_scatter(wf, pair[1], k, st, srow, w0, w1, w2, mp * q0, mp * q1, mp * q2,
                             b0, b1)
@@ -313,21 +315,22 @@ def _gather_list(node, wgt, field, work, nvel, out) -> None:
 
 
 @njit(cache=True)
-def delta_v_band(m, nn, nodes):
+def delta_v_band(m, nn, M, nodes):
     """The nodes within 2 m - 5 nodes (each axis) of a multimaterial node of ``nodes``
-    (2D grid): Delta v (004 Eq 26) lives on those nodes only and each S+_alpha S of Eq
+    (2D grid), per node and field (flat: node * M + field, every field): Delta v (004 Eq 26) lives on those nodes only and each S+_alpha S of Eq
     44 spreads it by at most 2 nodes (a particle's 3 x 3 window), so the Delta v series
     up to Delta v*_{m-2}, the last one scattered, reaches no particle whose window is
     centred outside this band."""
     nx, ny = nn[0], nn[1]
-    band = np.zeros(nx * ny, np.bool_)
+    band = np.zeros(nx * ny * M, np.bool_)
     R = max(2 * m - 5, 1)
     for c in range(nodes.shape[0]):
         i = nodes[c] % nx
         j = nodes[c] // nx
         for jj in range(max(j - R, 0), min(j + R + 1, ny)):
             for ii in range(max(i - R, 0), min(i + R + 1, nx)):
-                band[jj * nx + ii] = True
+                for f in range(M):
+                    band[(jj * nx + ii) * M + f] = True
     return band
 
 
@@ -341,36 +344,57 @@ def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind
     work[VK] = work[V0]
     if corrected:
         work[DK] = work[DV]
-    band = delta_v_band(m, nn, nodes) if corrected and x.shape[1] == 2 \
+    band = delta_v_band(m, nn, work.shape[2], nodes) if corrected and x.shape[1] == 2 \
         else np.zeros(0, np.bool_)
     work[VS] = 0.0
     N, M, D = nacc.shape
+    inv = np.empty(N * M)
+    mf = mass.reshape(-1)
+    for e in range(N * M):
+        inv[e] = 1.0 / mf[e] if mf[e] > 0.0 else 0.0
+    wf = work.reshape(work.shape[0], -1)
     for k in range(2, m + 1):
         next_dk = corrected and k < m
         scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, VK, VN,
                        DK if next_dk else -1, DN, node, wgt, band)
         sign = 1.0 if k % 2 == 0 else -1.0
         cv = (m + 1.0 - k) / k            # Eq 43
-        cd = (m - k) / k                  # Eq 44
-        cdv = sign * (m - 1.0) / m        # Eq 42, on Delta v*_{k-1}
-        for n in range(N):
-            for f in range(M):
-                mi = mass[n, f]
-                inv = 1.0 / mi if mi > 0.0 else 0.0
-                for d in range(D):
-                    vk = cv * inv * work[VN, n, f, d]
-                    work[VK, n, f, d] = vk
-                    acc = sign * vk
-                    if corrected:
-                        acc += cdv * work[DK, n, f, d]
-                    if next_dk:
-                        work[DK, n, f, d] = cd * inv * work[DN, n, f, d]
-                    work[VS, n, f, d] += acc
-    for n in range(N):
-        for f in range(M):
-            for d in range(D):
-                work[VS, n, f, d] = m * (work[V0, n, f, d] - work[VS, n, f, d]) \
-                    + nacc[n, f, d] * dt
+        if corrected:
+            _series_terms_dv(wf, inv, D, cv, sign, sign * (m - 1.0) / m,   # Eq 42
+                             (m - k) / k if next_dk else 0.0)              # Eq 44
+        else:
+            _series_terms(wf, inv, D, cv, sign)
+    _finish(wf, nacc.reshape(-1), m, dt)
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _series_terms(wf, inv, D, cv, sign) -> None:
+    """After the pass k: v*_k = cv S+ S v*_{k-1} (VN over the nodal mass, Eq 43) into VK,
+    added with its sign to the sum v*_alpha in VS (Eq 42)."""
+    for e in range(wf.shape[1]):
+        vk = cv * inv[e // D] * wf[VN, e]
+        wf[VK, e] = vk
+        wf[VS, e] += sign * vk
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _series_terms_dv(wf, inv, D, cv, sign, cdv, cd) -> None:
+    """:func:`_series_terms` with the Delta v terms: the sum also takes cdv Delta v*_{k-1}
+    (Eq 42) and, with ``cd`` != 0, Delta v*_k = cd S+ S Delta v*_{k-1} (DN, Eq 44) goes
+    into DK."""
+    for e in range(wf.shape[1]):
+        vk = cv * inv[e // D] * wf[VN, e]
+        wf[VK, e] = vk
+        wf[VS, e] += sign * vk + cdv * wf[DK, e]
+        if cd != 0.0:
+            wf[DK, e] = cd * inv[e // D] * wf[DN, e]
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _finish(wf, acc, m, dt) -> None:
+    """v~ = m (v_alpha - v*_alpha) + a_alpha dt into VS (Eq 41)."""
+    for e in range(wf.shape[1]):
+        wf[VS, e] = m * (wf[V0, e] - wf[VS, e]) + acc[e] * dt
 
 
 @njit(cache=True)
