@@ -452,7 +452,7 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
     """
     return g2p_range_2d(0, x.shape[0], x, v, pmass, pvol, pvol0, stress, strain, field, fext,
                         foff, load_scale, C, origin, cell, nn, lp, kind, dt, pic,
-                        update_stress, nvel, nacc, velgrad, mkind)
+                        update_stress, nvel, nacc, velgrad, mkind)[:5]
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
@@ -485,16 +485,30 @@ def _gather_row3(k, st, wy, dwy, w0, w1, w2, d0, d1, d2, vf, af):
             gy0 * v0 + gy1 * v1 + gy2 * v2)
 
 
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def _row3(k, st, wy, w0, w1, w2, f):
+    """wy (w0, w1, w2) . f over the 3 nodes k, k + st, k + 2 st of one stencil row (x and y
+    components)."""
+    return (wy * (w0 * f[k] + w1 * f[k + st] + w2 * f[k + 2 * st]),
+            wy * (w0 * f[k + 1] + w1 * f[k + st + 1] + w2 * f[k + 2 * st + 1]))
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
                  load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc,
-                 velgrad, mkind):
+                 velgrad, mkind, beta=0.0, vtil=None):
     """:func:`g2p_2d` for particles lo..hi-1 (each particle only touches its own data).
 
     The gather runs over the fixed 3 x 3 stencil of :func:`mpm.shape.axis_weights3`
     (unrolled; zero weights outside the support), so a particle is lost when that
-    stencil leaves the grid (the grid keeps >= 2 empty cells of padding)."""
+    stencil leaves the grid (the grid keeps >= 2 empty cells of padding).
+
+    With ``beta`` > 0 and ``vtil`` (the flat XPIC(m) grid velocity v~ of mpm/xpic.py,
+    laid out as ``nvel``) the XPIC blend of 004 Eq 35 follows in the same loop:
+    V <- (1 - beta) V + beta S v~, x += beta dt (S v~ - S v+); the sixth value returned
+    is the kinetic energy before that blend (the FLIP one; = the first without it)."""
     ke = 0.0
+    ke_flip = 0.0
     ke_grid = 0.0
     U = 0.0
     work = 0.0
@@ -539,9 +553,23 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
                                            + fext[p, 1] * nvel[tidx[kk], f, 1]) * tw[kk]
         x[p, 0] += dt * vx
         x[p, 1] += dt * vy
-        v[p, 0] = (1.0 - pic) * (v[p, 0] + dt * ax) + pic * vx
-        v[p, 1] = (1.0 - pic) * (v[p, 1] + dt * ay) + pic * vy
-        ke += 0.5 * pmass[p] * (v[p, 0] * v[p, 0] + v[p, 1] * v[p, 1])
+        u0 = (1.0 - pic) * (v[p, 0] + dt * ax) + pic * vx
+        u1 = (1.0 - pic) * (v[p, 1] + dt * ay) + pic * vy
+        if beta > 0.0:
+            ke_flip += 0.5 * pmass[p] * (u0 * u0 + u1 * u1)
+            # S v~ (004 Eq 35), the start-of-step weights of the gathers above
+            hx0, hy0 = _row3(k, st, q0, w0, w1, w2, vtil)
+            hx1, hy1 = _row3(k + srow, st, q1, w0, w1, w2, vtil)
+            hx2, hy2 = _row3(k + 2 * srow, st, q2, w0, w1, w2, vtil)
+            tx = hx0 + hx1 + hx2
+            ty = hy0 + hy1 + hy2
+            u0 = (1.0 - beta) * u0 + beta * tx
+            u1 = (1.0 - beta) * u1 + beta * ty
+            x[p, 0] += beta * dt * (tx - vx)
+            x[p, 1] += beta * dt * (ty - vy)
+        v[p, 0] = u0
+        v[p, 1] = u1
+        ke += 0.5 * pmass[p] * (u0 * u0 + u1 * u1)
         ke_grid += 0.5 * pmass[p] * (vx * vx + vy * vy)
         if mkind[f] != 0:
             # finite-strain field: mpm.finite_strain updates F, stress and energy
@@ -575,7 +603,7 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
             stress[p, 2] = s2
             pvol[p] *= 1.0 + de0 + de1
         U += 0.5 * pvol0[p] * (s0 * t0 + s1 * t1 + s2 * t2)
-    return ke, U, work, lost, ke_grid
+    return ke, U, work, lost, ke_grid, ke_flip if beta > 0.0 else ke
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")

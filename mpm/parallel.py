@@ -71,16 +71,21 @@ def p2g_range(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp
 
 @njit(cache=True, inline="always")
 def g2p_range(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
-              origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad, mkind):
-    """:func:`mpm.kernels.g2p_range_2d` or :func:`mpm.kernels3d.g2p_range_3d` by the
-    particles' dimension."""
+              origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad, mkind,
+              beta, vtil):
+    """:func:`mpm.kernels.g2p_range_2d` (with the XPIC blend ``beta``, ``vtil``) or
+    :func:`mpm.kernels3d.g2p_range_3d` (``beta`` must be 0: mpm/xpic.py blends 3D runs
+    after G2P) by the particles' dimension; (ke, U, work, lost, ke_grid, ke before the
+    blend)."""
     if x.shape[1] == 3:
-        return g2p_range_3d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
-                            load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress,
-                            nvel, nacc, velgrad, mkind)
+        ke, U, work, lost, keg = g2p_range_3d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain,
+                                              field, fext, foff, load_scale, C, origin, cell,
+                                              nn, lp, kind, dt, pic, update_stress, nvel, nacc,
+                                              velgrad, mkind)
+        return ke, U, work, lost, keg, ke
     return g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
                         load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel,
-                        nacc, velgrad, mkind)
+                        nacc, velgrad, mkind, beta, vtil)
 
 
 @njit(cache=True, parallel=True)
@@ -188,46 +193,52 @@ def p2g_blocks(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
 @njit(cache=True, parallel=True)
 def _g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
                 origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad, mkind,
-                out):
+                beta, vtil, out):
     P = x.shape[0]
     for ib in prange(nb):
         lo = ib * P // nb
         hi = (ib + 1) * P // nb
-        ke, U, work, lost, keg = g2p_range(lo, hi, x, v, pmass, pvol, pvol0, stress, strain,
-                                           field, fext, foff, load_scale, C, origin, cell, nn,
-                                           lp, kind, dt, pic, update_stress, nvel, nacc,
-                                           velgrad, mkind)
+        ke, U, work, lost, keg, kef = g2p_range(lo, hi, x, v, pmass, pvol, pvol0, stress,
+                                                strain, field, fext, foff, load_scale, C,
+                                                origin, cell, nn, lp, kind, dt, pic,
+                                                update_stress, nvel, nacc, velgrad, mkind,
+                                                beta, vtil)
         out[ib, 0] = ke
         out[ib, 1] = U
         out[ib, 2] = work
         out[ib, 3] = lost
         out[ib, 4] = keg
+        out[ib, 5] = kef
 
 
 @njit(cache=True)
 def g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale,
                   C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad,
-                  mkind):
-    """:func:`mpm.kernels.g2p_2d` (same arguments and return value) over ``nb`` particle blocks in
-    parallel, the energy sums added in block order; serial when ``nb`` < 2."""
+                  mkind, beta, vtil):
+    """:func:`mpm.kernels.g2p_2d` over ``nb`` particle blocks in parallel, the energy sums
+    added in block order; serial when ``nb`` < 2. 2D: with ``beta`` > 0 the XPIC blend
+    from the grid velocity ``vtil`` in the same loop (:func:`mpm.kernels.g2p_range_2d`).
+    Returns :func:`mpm.kernels.g2p_2d`'s values and the kinetic energy before the blend."""
     if nb < 2:
         return g2p_range(0, x.shape[0], x, v, pmass, pvol, pvol0, stress, strain, field,
                          fext, foff, load_scale, C, origin, cell, nn, lp, kind, dt, pic,
-                         update_stress, nvel, nacc, velgrad, mkind)
-    out = np.empty((nb, 5))
+                         update_stress, nvel, nacc, velgrad, mkind, beta, vtil)
+    out = np.empty((nb, 6))
     _g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
                 origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad, mkind,
-                out)
+                beta, vtil, out)
     ke = 0.0
     U = 0.0
     work = 0.0
     ke_grid = 0.0
+    ke_flip = 0.0
     lost = -1
     for ib in range(nb):
         ke += out[ib, 0]
         U += out[ib, 1]
         work += out[ib, 2]
         ke_grid += out[ib, 4]
+        ke_flip += out[ib, 5]
         if out[ib, 3] >= 0.0:
             lost = int(out[ib, 3])
-    return ke, U, work, lost, ke_grid
+    return ke, U, work, lost, ke_grid, ke_flip

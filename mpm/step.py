@@ -274,8 +274,10 @@ def phase_g2p(ctl, pt, grid, nd, blocks, scale):
     the particles moved, so the hoop stretch is r+ / r0). Returns (kinetic, strain
     energy of the linear fields (USL and USF: of every field but the finite-strain
     fields' of USF, added by the caller), external work increment, lost particle or -1,
-    grid kinetic energy). XPIC(m) runs reuse the nodal kinematics of
-    :func:`mpm.xpic.phase_xpic_grid` (the nodal momenta and forces are those it read)."""
+    grid kinetic energy, kinetic energy before an XPIC blend). XPIC(m) runs reuse the
+    nodal kinematics of :func:`mpm.xpic.phase_xpic_grid` (the nodal momenta and forces
+    are those it read); with the 2D tensor-product shapes G2P also blends the XPIC
+    velocity v~ in (004 Eq 35, :func:`mpm.kernels.g2p_range_2d`)."""
     if ctl.xpic < 1:
         nodal_kinematics(nd.mass, nd.momentum, nd.force, nd.velocity, nd.acceleration)
     if ctl.mode == MUSL:
@@ -290,19 +292,23 @@ def phase_g2p(ctl, pt, grid, nd, blocks, scale):
             pt.foff, pt.foff0, pt.F, pt.half_width, scale, ctl.C, grid.origin, grid.cell,
             grid.nn, grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity, nd.acceleration,
             pt.velgrad, ctl.material_kind)
+        ke_flip = ke
     else:
-        ke, U, work, lost, ke_grid = g2p_blocks(
+        # the 2D tensor-product XPIC runs keep no particle extrapolations (mpm/xpic.py)
+        blend = ctl.xpic >= 1 and pt.xpic.shape[0] == 0
+        ke, U, work, lost, ke_grid, ke_flip = g2p_blocks(
             blocks.mass.shape[0], pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
             pt.strain, pt.field, pt.fext, pt.foff, scale, ctl.C, grid.origin, grid.cell,
             grid.nn, pt.lp, grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity,
-            nd.acceleration, pt.velgrad, ctl.material_kind)
+            nd.acceleration, pt.velgrad, ctl.material_kind, ctl.xpic_blend if blend else 0.0,
+            nd.xpic[XPIC_VS].reshape(-1) if blend else nd.velocity.reshape(-1))
     if hoop and lost < 0:
         hoop_from_motion(pt.x, pt.r_before, pt.d_hoop)
         U = hoop_stress_update(pt.d_hoop, pt.strain_before, pt.stress, pt.strain, pt.volume,
                                pt.volume0, pt.field, ctl.C, ctl.material_kind)
     if ctl.mode == USL and lost < 0:
         U += phase_finite_strain(ctl, pt)
-    return ke, U, work, lost, ke_grid
+    return ke, U, work, lost, ke_grid, ke_flip
 
 
 @njit(cache=True, inline="always")
@@ -402,10 +408,10 @@ def time_step(ctl, alpha, t, pt, grid, nd, bc, pairs, blocks, vel, over_limit, r
         phase_contact(1, ctl, grid, nd, pairs, nodes)
         wbc += phase_bonded_conditions(ctl, nd, bc, pairs, vel, True)
     phase_xpic_grid(ctl, pt, grid, nd, bc, pairs, nodes)
-    ke, U, work, lost, ke_grid = phase_g2p(ctl, pt, grid, nd, blocks, scale)
+    ke, U, work, lost, ke_grid, ke_flip = phase_g2p(ctl, pt, grid, nd, blocks, scale)
     if lost >= 0:
         return lost
-    ke, diss_xpic = phase_xpic_particles(ctl, pt, grid, nd, ke)
+    ke, diss_xpic = phase_xpic_particles(ctl, pt, ke, ke_flip)
     diss += diss_xpic
     if ctl.mode == MUSL:
         U = phase_musl(ctl, pt, grid, nd, bc, pairs, vel, nodes)

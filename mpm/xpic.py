@@ -40,7 +40,8 @@ start-of-step positions: written by P2G in 2D, by :func:`stencils_cpdi` for the 
 shapes) and ``ParticleState.xpic`` (the extrapolations, CPDI shapes and 3D only):
 :func:`stencil_arrays`. The passes are written for the 2D tensor-product shapes (linear,
 uGIMP, B2: a 3 x 3 window of P2G's 1D weights; the V and Delta v series of a pass in one
-particle loop, the extrapolation of v~ inside the blend), for the CPDI shapes (2D, each
+particle loop, the Delta v one only near the multimaterial nodes; v~ extrapolated and
+blended inside G2P, :func:`mpm.kernels.g2p_range_2d`), for the CPDI shapes (2D, each
 particle's node list of :func:`mpm.cpdi.shape_cpdi`) and for any D (3D: the 3^D stencil
 recomputed in each pass).
 """
@@ -115,8 +116,8 @@ def stencil_arrays(P: int, D: int, cpdi: bool, xpic: int) -> tuple:
       2) of the x component of the first node of a 3 x 3 window holding the particle's
       support, ``xpic_weight[p]`` its 1D weights (x0, x1, x2, y0, y1, y2; 0 beyond the
       support), written by P2G from the weights it computes at the start-of-step
-      positions (:func:`mpm.kernels.p2g_range_2d`); the extrapolations go straight into
-      the blend (no ``xpic`` rows);
+      positions (:func:`mpm.kernels.p2g_range_2d`); G2P extrapolates v~ and blends it
+      (no ``xpic`` rows);
     * CPDI shapes: ``xpic_node[p]`` = (count, node of each entry), ``xpic_weight[p]`` the
       entries' S_ip (:func:`stencils_cpdi`), and ``xpic`` [2, P, 2] the extrapolations
       S v~, S (v~ - v+) of :func:`gather_particles`;
@@ -411,7 +412,7 @@ def keep_conditioned(work, nvel, bc_node, bc_field, bc_comp, g_node, g_field) ->
 def gather_particles(x, field, origin, cell, nn, lp, kind, work, nvel, out, node, wgt) -> None:
     """out[0, p] = S v~, out[1, p] = S (v~ - v+) at the start-of-step positions (CPDI
     shapes: the node lists; 3D: the 3^D stencils of ``x``); the 2D tensor-product shapes
-    extrapolate inside :func:`gather_blend_2d` instead."""
+    extrapolate inside G2P instead (:func:`mpm.kernels.g2p_range_2d`)."""
     if is_cpdi(kind):
         _gather_list(node, wgt, field, work, nvel, out)
     else:
@@ -466,56 +467,6 @@ def blend_particles(beta, dt, pmass, v, x, out):
     return ke, ke_flip
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
-def gather_blend_2d(beta, dt, pmass, v, x, node, wgt, nx, work, nvel):
-    """:func:`blend_particles` with S v~ and S (v~ - v+) extrapolated in the same loop,
-    on the step's 2D stencils (the start-of-step positions: G2P has moved ``x``; a
-    particle off the grid has none, P2G stopped the step)."""
-    M = nvel.shape[1]
-    st = 2 * M
-    srow = 2 * M * nx
-    tf = work[VS].reshape(-1)
-    vf = nvel.reshape(-1)
-    ke = 0.0
-    ke_flip = 0.0
-    for p in range(v.shape[0]):
-        k = node[p, 0]
-        a0 = 0.0
-        a1 = 0.0
-        b0 = 0.0
-        b1 = 0.0
-        if k >= 0:
-            w0 = wgt[p, 0]
-            w1 = wgt[p, 1]
-            w2 = wgt[p, 2]
-            for jb in range(3):
-                r = k + jb * srow
-                q = _pick(jb, wgt[p, 3], wgt[p, 4], wgt[p, 5])
-                t0 = tf[r]
-                t1 = tf[r + 1]
-                t2 = tf[r + st]
-                t3 = tf[r + st + 1]
-                t4 = tf[r + 2 * st]
-                t5 = tf[r + 2 * st + 1]
-                a0 += q * (w0 * t0 + w1 * t2 + w2 * t4)
-                a1 += q * (w0 * t1 + w1 * t3 + w2 * t5)
-                b0 += q * (w0 * (t0 - vf[r]) + w1 * (t2 - vf[r + st])
-                           + w2 * (t4 - vf[r + 2 * st]))
-                b1 += q * (w0 * (t1 - vf[r + 1]) + w1 * (t3 - vf[r + st + 1])
-                           + w2 * (t5 - vf[r + 2 * st + 1]))
-        u0 = v[p, 0]
-        u1 = v[p, 1]
-        n0 = (1.0 - beta) * u0 + beta * a0
-        n1 = (1.0 - beta) * u1 + beta * a1
-        v[p, 0] = n0
-        v[p, 1] = n1
-        x[p, 0] += beta * dt * b0
-        x[p, 1] += beta * dt * b1
-        ke_flip += 0.5 * pmass[p] * (u0 * u0 + u1 * u1)
-        ke += 0.5 * pmass[p] * (n0 * n0 + n1 * n1)
-    return ke, ke_flip
-
-
 @njit(cache=True, inline="always")
 def phase_xpic_save(ctl, nd) -> None:
     """Before the initial contact correction: the momenta p_alpha0 (for Delta v_alpha)."""
@@ -565,16 +516,13 @@ def phase_xpic_grid(ctl, pt, grid, nd, bc, pairs, nodes) -> None:
 
 
 @njit(cache=True, inline="always")
-def phase_xpic_particles(ctl, pt, grid, nd, ke):
-    """After the FLIP G2P: the XPIC(m) velocities and positions (Eq 35; 2D tensor-product
-    shapes: extrapolated from v~ in the same loop); returns (kinetic energy, the kinetic
-    energy the projection removed)."""
+def phase_xpic_particles(ctl, pt, ke, ke_flip):
+    """After G2P: the XPIC(m) velocities and positions (Eq 35) of the CPDI shapes and 3D
+    runs from their extrapolations (2D tensor-product shapes: G2P blended them,
+    :func:`mpm.kernels.g2p_range_2d`, ``ke_flip`` its kinetic energy before the blend);
+    returns (kinetic energy, the kinetic energy the projection removed)."""
     if ctl.xpic < 1:
         return ke, 0.0
     if pt.xpic.shape[0]:
-        ke_new, ke_flip = blend_particles(ctl.xpic_blend, ctl.dt, pt.mass, pt.v, pt.x, pt.xpic)
-    else:
-        ke_new, ke_flip = gather_blend_2d(ctl.xpic_blend, ctl.dt, pt.mass, pt.v, pt.x,
-                                          pt.xpic_node, pt.xpic_weight, grid.nn[0], nd.xpic,
-                                          nd.velocity)
-    return ke_new, ke_flip - ke_new
+        ke, ke_flip = blend_particles(ctl.xpic_blend, ctl.dt, pt.mass, pt.v, pt.x, pt.xpic)
+    return ke, ke_flip - ke

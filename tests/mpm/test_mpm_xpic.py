@@ -299,8 +299,8 @@ def test_projection_passes_equal_the_shape_function_matrices(kind):
     """The 2D passes on the step's 3 x 3 stencils (written by P2G: mpm/kernels.py
     p2g_range_2d) against matrices built particle by particle from mpm.shape.shape_2d:
     the S+ S pass is sum_p m_p S_ip (S w)_p per field (two series in one loop: the V and
-    Delta v slots), the extrapolations S v~ and S (v~ - v+) of the blend (pic = 1, dt =
-    1, from V = 0, x = 0), on the particles of :func:`_stencil_cloud`."""
+    Delta v slots); and G2P's XPIC blend (mpm/kernels.py g2p_range_2d, beta = 1/2, dt =
+    1, from V = 0), on the particles of :func:`_stencil_cloud`."""
     import scipy.sparse as sp
 
     from mpm import xpic
@@ -323,17 +323,30 @@ def test_projection_passes_equal_the_shape_function_matrices(kind):
     nvel = rng.standard_normal((N, M, 2))
     xpic.scatter_passes(x, pmass, field, origin, cell, nn, lp, kind, work, xpic.VK, xpic.VN,
                         xpic.DK, xpic.DN, node, wgt, np.ones(N * M, np.bool_))
-    v, xb = np.zeros((P, 2)), np.zeros((P, 2))
-    xpic.gather_blend_2d(1.0, 1.0, pmass, v, xb, node, wgt, nx, work, nvel)
+    v, dx = _g2p_blend(x, pmass, field, origin, cell, nn, lp, kind, work[xpic.VS], nvel, 0.5)
     for f in range(M):
         Sf = sp.diags((field == f).astype(float)) @ Smat
         for src, dst in ((xpic.VK, xpic.VN), (xpic.DK, xpic.DN)):
             expected = Sf.T @ (pmass[:, None] * (Sf @ work[src, :, f]))
             assert np.allclose(work[dst, :, f], expected, rtol=1e-13, atol=1e-13)
         mine = field == f
-        assert np.allclose(v[mine], (Smat @ work[xpic.VS, :, f])[mine], rtol=1e-13, atol=1e-13)
-        assert np.allclose(xb[mine], (Smat @ (work[xpic.VS, :, f] - nvel[:, f]))[mine],
-                           rtol=1e-13, atol=1e-13)
+        s_vtil, s_vel = (Smat @ work[xpic.VS, :, f])[mine], (Smat @ nvel[:, f])[mine]
+        assert np.allclose(v[mine], 0.5 * s_vtil, rtol=1e-13, atol=1e-13)
+        assert np.allclose(dx[mine], s_vel + 0.5 * (s_vtil - s_vel), rtol=1e-13, atol=1e-13)
+
+
+def _g2p_blend(x, pmass, field, origin, cell, nn, lp, kind, vtil, nvel, beta):
+    """G2P with the XPIC blend ``beta`` from V = 0, dt = 1, no acceleration and no
+    stress update: (V, x change), i.e. (beta S v~, S v+ + beta S (v~ - v+))."""
+    from mpm.kernels import g2p_range_2d
+    P, M = x.shape[0], nvel.shape[1]
+    v, xb = np.zeros((P, 2)), x.copy()
+    zeros3 = np.zeros((P, 3))
+    g2p_range_2d(0, P, xb, v, pmass, np.ones(P), np.ones(P), zeros3, zeros3.copy(), field,
+                 np.zeros((P, 2)), np.zeros((P, 2)), 1.0, np.zeros((M, 3, 3)), origin, cell, nn,
+                 lp, kind, 1.0, 0.0, False, nvel, np.zeros_like(nvel), np.zeros((P, 2, 2)),
+                 np.zeros(M, np.int64), beta, vtil.reshape(-1))
+    return v, xb - x
 
 
 @pytest.mark.parametrize("m", [3, 5, 8])
