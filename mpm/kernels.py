@@ -503,10 +503,11 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
     (unrolled; zero weights outside the support), so a particle is lost when that
     stencil leaves the grid (the grid keeps >= 2 empty cells of padding).
 
-    With ``beta`` > 0 and ``vtil`` (the flat XPIC(m) grid velocity v~ of mpm/xpic.py,
-    laid out as ``nvel``) the XPIC blend of 004 Eq 35 follows in the same loop:
-    V <- (1 - beta) V + beta S v~, x += beta dt (S v~ - S v+); the sixth value returned
-    is the kinetic energy before that blend (the FLIP one; = the first without it)."""
+    With ``vtil`` (the flat XPIC(m) grid velocity v~ of mpm/xpic.py, laid out as
+    ``nvel``; None compiles the loop without it) the XPIC blend of 004 Eq 35 follows in
+    the same loop: V <- (1 - beta) V + beta S v~, x += beta dt (S v~ - S v+); the sixth
+    value returned is the kinetic energy before that blend (the FLIP one; = the first
+    without it)."""
     ke = 0.0
     ke_flip = 0.0
     ke_grid = 0.0
@@ -555,7 +556,7 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
         x[p, 1] += dt * vy
         u0 = (1.0 - pic) * (v[p, 0] + dt * ax) + pic * vx
         u1 = (1.0 - pic) * (v[p, 1] + dt * ay) + pic * vy
-        if beta > 0.0:
+        if vtil is not None:
             ke_flip += 0.5 * pmass[p] * (u0 * u0 + u1 * u1)
             # S v~ (004 Eq 35), the start-of-step weights of the gathers above
             hx0, hy0 = _row3(k, st, q0, w0, w1, w2, vtil)
@@ -603,7 +604,9 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
             stress[p, 2] = s2
             pvol[p] *= 1.0 + de0 + de1
         U += 0.5 * pvol0[p] * (s0 * t0 + s1 * t1 + s2 * t2)
-    return ke, U, work, lost, ke_grid, ke_flip if beta > 0.0 else ke
+    if vtil is None:
+        ke_flip = ke
+    return ke, U, work, lost, ke_grid, ke_flip
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")

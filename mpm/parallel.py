@@ -74,8 +74,8 @@ def g2p_range(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, fof
               origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad, mkind,
               beta, vtil):
     """:func:`mpm.kernels.g2p_range_2d` (with the XPIC blend ``beta``, ``vtil``) or
-    :func:`mpm.kernels3d.g2p_range_3d` (``beta`` must be 0: mpm/xpic.py blends 3D runs
-    after G2P) by the particles' dimension; (ke, U, work, lost, ke_grid, ke before the
+    :func:`mpm.kernels3d.g2p_range_3d` (``vtil`` None: mpm/xpic.py blends 3D runs after
+    G2P) by the particles' dimension; (ke, U, work, lost, ke_grid, ke before the
     blend)."""
     if x.shape[1] == 3:
         ke, U, work, lost, keg = g2p_range_3d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain,
@@ -216,8 +216,8 @@ def g2p_blocks(nb, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, 
                   C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc, velgrad,
                   mkind, beta, vtil):
     """:func:`mpm.kernels.g2p_2d` over ``nb`` particle blocks in parallel, the energy sums
-    added in block order; serial when ``nb`` < 2. 2D: with ``beta`` > 0 the XPIC blend
-    from the grid velocity ``vtil`` in the same loop (:func:`mpm.kernels.g2p_range_2d`).
+    added in block order; serial when ``nb`` < 2. 2D: with the grid velocity ``vtil`` (None:
+    none) the XPIC blend ``beta`` in the same loop (:func:`mpm.kernels.g2p_range_2d`).
     Returns :func:`mpm.kernels.g2p_2d`'s values and the kinetic energy before the blend."""
     if nb < 2:
         return g2p_range(0, x.shape[0], x, v, pmass, pvol, pvol0, stress, strain, field,

@@ -294,14 +294,21 @@ def phase_g2p(ctl, pt, grid, nd, blocks, scale):
             pt.velgrad, ctl.material_kind)
         ke_flip = ke
     else:
-        # the 2D tensor-product XPIC runs keep no particle extrapolations (mpm/xpic.py)
-        blend = ctl.xpic >= 1 and pt.xpic.shape[0] == 0
-        ke, U, work, lost, ke_grid, ke_flip = g2p_blocks(
-            blocks.mass.shape[0], pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress,
-            pt.strain, pt.field, pt.fext, pt.foff, scale, ctl.C, grid.origin, grid.cell,
-            grid.nn, pt.lp, grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity,
-            nd.acceleration, pt.velgrad, ctl.material_kind, ctl.xpic_blend if blend else 0.0,
-            nd.xpic[XPIC_VS].reshape(-1) if blend else nd.velocity.reshape(-1))
+        nb = blocks.mass.shape[0]
+        # the 2D tensor-product XPIC runs keep no particle extrapolations (mpm/xpic.py);
+        # without XPIC the G2P loop is compiled without the blend
+        if ctl.xpic >= 1 and pt.xpic.shape[0] == 0:
+            ke, U, work, lost, ke_grid, ke_flip = g2p_blocks(
+                nb, pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
+                pt.fext, pt.foff, scale, ctl.C, grid.origin, grid.cell, grid.nn, pt.lp,
+                grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity, nd.acceleration,
+                pt.velgrad, ctl.material_kind, ctl.xpic_blend, nd.xpic[XPIC_VS].reshape(-1))
+        else:
+            ke, U, work, lost, ke_grid, ke_flip = g2p_blocks(
+                nb, pt.x, pt.v, pt.mass, pt.volume, pt.volume0, pt.stress, pt.strain, pt.field,
+                pt.fext, pt.foff, scale, ctl.C, grid.origin, grid.cell, grid.nn, pt.lp,
+                grid.kind, ctl.dt, ctl.pic, ctl.mode == USL, nd.velocity, nd.acceleration,
+                pt.velgrad, ctl.material_kind, 0.0, None)
     if hoop and lost < 0:
         hoop_from_motion(pt.x, pt.r_before, pt.d_hoop)
         U = hoop_stress_update(pt.d_hoop, pt.strain_before, pt.stress, pt.strain, pt.volume,
