@@ -65,7 +65,7 @@ from scipy.sparse.linalg import LinearOperator, gmres
 from interfaces.errors import SolverError
 from interfaces.sparse import DirectSolver, SingularMatrixError
 
-from .assembly import CPDSystem
+from .assembly import CPDSystem, reduced_target
 from .preconditioner import PairTangent, pair_preconditioner_applies
 from .reduction import ReducedMatrix
 
@@ -224,6 +224,11 @@ class TangentSolver:
         self.stats = {"factorizations": 0, "krylov_solves": 0, "krylov_iterations": 0, "precision_fallbacks": 0,
                       "krylov_method": None, "approx_factorizations": 0, "approx_fallbacks": 0}
         self.times = {"factorization": 0.0, "triangular_solves": 0.0, "krylov": 0.0}
+
+    def wants_approx(self) -> bool:
+        """True when the next :meth:`solve` given ``approx`` will factorise it (no factors to
+        reuse): the caller may then evaluate the approximation along with the tangent."""
+        return self.reuse and self.use_approx and not (self.factored and not self.stale)
 
     def _direct(self) -> DirectSolver:
         return DirectSolver(self.kind, ordering="metis", try_cholesky=True, ordering_effort=ORDERING_EFFORT,
@@ -412,9 +417,12 @@ class Equations:
         self.pairs = PairTangent(system, self.free) if use_pairs else None
         self._state = (None, None)              # (evaluation with a tangent, its independent DOFs)
         self.times = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
+        # under load control the kernels assemble K_ff itself (no full tangent, no gather; the
+        # arc-length driver needs the full one for K_fc u_bar)
+        self.target = reduced_target(system, self.red) if opts.path == "load" else None
         # one tangent buffer and one reduced-matrix buffer, refilled by every evaluation: only
         # the current tangent is ever used (the factors live in the direct solver)
-        self._tangent_buffer = np.empty(system.pattern.nnz)
+        self._tangent_buffer = np.empty(system.pattern.nnz) if self.target is None else None
         self._reduced_buffer = np.empty(len(self.red.indices)) if self.red.injective else None
         self._reduced = (None, None)
         self._say = opts.report or log.info
@@ -425,7 +433,13 @@ class Equations:
 
     def evaluate(self, v: np.ndarray, tangent: bool):
         t0 = time.perf_counter()
-        ev = self.system.evaluate(self.dofs.expand(v), tangent, out=self._tangent_buffer if tangent else None)
+        u = self.dofs.expand(v)
+        if tangent and self.target is not None:
+            # the pair part in the same pass when the next solve will factorise it
+            fused = self.pairs.fused if self.pairs is not None and self.lin.wants_approx() else None
+            ev = self.system.evaluate(u, True, out=self._reduced_buffer, target=self.target, pairs=fused)
+        else:
+            ev = self.system.evaluate(u, tangent, out=self._tangent_buffer if tangent else None)
         if tangent:
             self._state = (ev, v.copy())
         dt = time.perf_counter() - t0
@@ -449,11 +463,12 @@ class Equations:
     def solve(self, ev, rhs: np.ndarray, rtol: float) -> np.ndarray:
         """K_ff(ev) x = rhs to the relative residual ``rtol`` (K_ff mapped once per evaluation)."""
         if self._reduced[0] is not ev:
-            self._reduced = (ev, self.red(ev.tangent.data, out=self._reduced_buffer))
+            K = ev.tangent if self.target is not None else self.red(ev.tangent.data, out=self._reduced_buffer)
+            self._reduced = (ev, K)
         approx = None
         if self.pairs is not None and self._state[0] is ev:
             v = self._state[1]
-            approx = lambda: self.pairs(self.dofs.expand(v))     # noqa: E731
+            approx = lambda: ev.pair_tangent if ev.pair_tangent is not None else self.pairs(self.dofs.expand(v))  # noqa: E731
         t0 = time.perf_counter()
         x = self.lin.solve(self._reduced[1], rhs, rtol=rtol, approx=approx)
         self.times["linear_solve"] += time.perf_counter() - t0

@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .assembly import CPDSystem, MaterialBlock
+from .assembly import CPDSystem, MaterialBlock, reduced_target
 from .reduction import ReducedMatrix
 
 
@@ -37,7 +37,10 @@ def pair_preconditioner_applies(system: CPDSystem) -> bool:
 class PairTangent:
     """K_ff of the pair (psi1) part of ``system``'s energy over the free independent DOFs
     ``free``: the same nodes, volumes, horizons, compliant-overlap springs and DOF map, the
-    constants (C1, 0, 0)."""
+    constants (C1, 0, 0). Assembled straight into K_ff where :func:`reduced_target` applies
+    (through the full pattern and :class:`ReducedMatrix` otherwise); ``fused`` (or None) is
+    the (target, buffer) that ``system.evaluate(pairs=...)`` takes to evaluate it in the
+    pass of the whole tangent."""
 
     def __init__(self, system: CPDSystem, free: np.ndarray):
         blocks = [MaterialBlock(b.name, b.centers, b.nptr, b.nidx, np.array([b.C[0], 0.0, 0.0]))
@@ -46,9 +49,14 @@ class PairTangent:
         self.system = CPDSystem(system.X, system.vol, blocks, system.delta, springs)
         self.system.dofs = system.dofs               # the compliant overlap's ties
         self.reduce = ReducedMatrix(self.system, free)
-        self._buffer = np.empty(self.system.pattern.nnz)
+        self.target = reduced_target(self.system, self.reduce)
+        self._buffer = np.empty(self.system.pattern.nnz if self.target is None else self.target.nnz)
+        same_order = all(np.array_equal(a.centers, b.centers) for a, b in zip(self.system.blocks, system.blocks))
+        self.fused = (self.target, self._buffer) if self.target is not None and same_order else None
 
     def __call__(self, u: np.ndarray) -> sp.csr_matrix:
         """The reduced pair tangent at the full-DOF displacement ``u``."""
+        if self.target is not None:
+            return self.system.evaluate(u, True, out=self._buffer, target=self.target).tangent
         ev = self.system.evaluate(u, True, out=self._buffer)
         return self.reduce(ev.tangent.data)

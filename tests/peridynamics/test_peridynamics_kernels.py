@@ -168,16 +168,16 @@ def test_block_slots_and_binary_search_scatter_agree(dim, C):
     binary search (the path taken above the memory budget), also for a pair-only material
     (whose neighbour-neighbour blocks are outside the pattern); a refilled buffer equals a
     fresh array."""
-    from peridynamics.assembly import tangent_slots
+    from peridynamics.assembly import full_target
 
     system, u = _random_system(dim, C, 40 if dim == 2 else 30, seed=7, two_materials=True)
-    assert all(len(s) > 0 for s, _ in system._slots)
+    assert all(len(s) > 0 for s, _ in system.target.slots)
     ev = system.evaluate(u)
     buf = np.full(system.pattern.nnz, np.nan)
     ev_buf = system.evaluate(u, out=buf)
     assert np.shares_memory(ev_buf.tangent.data, buf) and np.array_equal(buf, ev.tangent.data)
-    system._slots = tangent_slots(system.blocks, system.pattern, budget=0)
-    assert all(len(s) == 0 for s, _ in system._slots)
+    system.target = full_target(system.blocks, system.pattern, system.target.constant, budget=0)
+    assert all(len(s) == 0 for s, _ in system.target.slots)
     ev_bs = system.evaluate(u)
     assert np.array_equal(ev_bs.tangent.data, ev.tangent.data)
     assert np.array_equal(ev_bs.residual, ev.residual)
