@@ -526,6 +526,80 @@ def _scatter(Kloc, nodes, nl, d, c, target):
 
 
 @njit(cache=True)
+def _scatter_pairs_2d(Pd, nodes, nl, rows, coff, slots, s0, data):
+    """:func:`_scatter_pairs` in 2D through the block slots, the 2 x 2 blocks written out
+    (the same sums in the same order)."""
+    p = nodes[0]
+    rp0 = rows[p, 0]
+    rp1 = rows[p, 1]
+    cp0 = coff[p, 0]
+    cp1 = coff[p, 1]
+    s00 = 0.0
+    s01 = 0.0
+    s10 = 0.0
+    s11 = 0.0
+    for m in range(1, nl):
+        s00 -= -Pd[m, 0, 0]
+        s01 -= -Pd[m, 0, 1]
+        s10 -= -Pd[m, 1, 0]
+        s11 -= -Pd[m, 1, 1]
+    k00 = slots[s0]
+    if rp0 >= 0:
+        if cp0 >= 0:
+            data[rp0 + k00 + cp0] += s00
+        if cp1 >= 0:
+            data[rp0 + k00 + cp1] += s01
+    if rp1 >= 0:
+        if cp0 >= 0:
+            data[rp1 + k00 + cp0] += s10
+        if cp1 >= 0:
+            data[rp1 + k00 + cp1] += s11
+    for m in range(1, nl):
+        q = nodes[m]
+        kpm = slots[s0 + m]
+        kmp = slots[s0 + m * nl]
+        kmm = slots[s0 + m * nl + m]
+        if kpm < 0 or kmp < 0 or kmm < 0:
+            raise ValueError("pair tangent block outside the precomputed sparsity pattern")
+        v00 = Pd[m, 0, 0]
+        v01 = Pd[m, 0, 1]
+        v10 = Pd[m, 1, 0]
+        v11 = Pd[m, 1, 1]
+        rq0 = rows[q, 0]
+        rq1 = rows[q, 1]
+        cq0 = coff[q, 0]
+        cq1 = coff[q, 1]
+        if rq0 >= 0:                                 # K_mp = -Pd[m], K_mm = Pd[m]
+            if cp0 >= 0:
+                data[rq0 + kmp + cp0] -= v00
+            if cp1 >= 0:
+                data[rq0 + kmp + cp1] -= v01
+            if cq0 >= 0:
+                data[rq0 + kmm + cq0] += v00
+            if cq1 >= 0:
+                data[rq0 + kmm + cq1] += v01
+        if rq1 >= 0:
+            if cp0 >= 0:
+                data[rq1 + kmp + cp0] -= v10
+            if cp1 >= 0:
+                data[rq1 + kmp + cp1] -= v11
+            if cq0 >= 0:
+                data[rq1 + kmm + cq0] += v10
+            if cq1 >= 0:
+                data[rq1 + kmm + cq1] += v11
+        if rp0 >= 0:                                 # K_pm = -Pd[m]^T
+            if cq0 >= 0:
+                data[rp0 + kpm + cq0] -= v00
+            if cq1 >= 0:
+                data[rp0 + kpm + cq1] -= v10
+        if rp1 >= 0:
+            if cq0 >= 0:
+                data[rp1 + kpm + cq0] -= v01
+            if cq1 >= 0:
+                data[rp1 + kpm + cq1] -= v11
+
+
+@njit(cache=True)
 def _scatter_pairs(Pd, nodes, nl, d, c, target):
     """Add the tangent of the one-neighbour (pair) interactions of central point ``c`` into the
     target (layout of :func:`_scatter`). ``Pd[m]`` (d x d) is the pair Hessian block of
@@ -536,6 +610,9 @@ def _scatter_pairs(Pd, nodes, nl, d, c, target):
     data = target[0]
     rows = target[1]
     coff = target[2]
+    if d == 2 and target[3].shape[0] > 0:
+        _scatter_pairs_2d(Pd, nodes, nl, rows, coff, target[3], target[4][c], data)
+        return
     p = nodes[0]
     k00 = _block_offset(target, c, 0, 0, nl, nodes, d)
     for al in range(d):
