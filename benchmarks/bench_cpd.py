@@ -13,16 +13,24 @@ the Krylov preconditioner; and a whole Newton
 solve (1 and 3 load steps: iterations, residual history, factorisations, Krylov
 iterations, time per iteration), with the default preconditioner of each tree. Trees with
 ``peridynamics.preconditioner`` also report the fresh iteration of the default inexact
-Newton step: the pair part of the tangent evaluated and reduced, its float32 Cholesky,
-and CG on the exact tangent to the first forcing term (``iteration(fresh, pairs)``;
-"fresh iteration old / pair-preconditioned" compares it with the old tree's fresh
-iteration). Three sizes (h = 0.02, 0.0141, 0.01). Times are the
+Newton step: the pair part of the tangent, its float32 Cholesky, and CG on the exact
+tangent to the first forcing term (``iteration(fresh, pairs)``; "fresh iteration old /
+pair-preconditioned" compares it with the old tree's fresh iteration). Trees whose kernels
+assemble into the free-DOF matrix (``assembly.reduced_target``) time that (``K_ff
+direct``) and the pass that adds the tangent and its pair part into their free-DOF
+matrices at once (``K_ff+pairs one pass``, the Newton loop's assembly before a
+factorisation): their fresh iteration is that pass + factorisation + CG, the others' is
+assembly + reduction + pair tangent + factorisation + CG. Three sizes (h = 0.02, 0.0141,
+0.01). Times are the
 best of a few repetitions, wall clock and process CPU time (the machine is shared: CPU
 time is what one core spends). With ``--old PATH`` (a checkout of the previous commit,
 e.g. ``git worktree add --detach /tmp/cpd_old main``) the same measurement runs on that
 tree in a subprocess in the same run, and the ratios old / new are reported.
 
-    NUMBA_NUM_THREADS=1 MKL_NUM_THREADS=1 python benchmarks/bench_cpd.py [--old /tmp/cpd_old] [--out file.json]
+    NUMBA_NUM_THREADS=1 MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/bench_cpd.py [--old /tmp/cpd_old] [--out file.json]
+
+(OMP_NUM_THREADS=1 keeps numpy's OpenBLAS on one thread too: with its default two threads
+on a loaded 2-core machine the vector products of CG took 4x longer.)
 """
 from __future__ import annotations
 

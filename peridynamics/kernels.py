@@ -22,7 +22,11 @@ Eq 16-18 and Appendix A of 003 are garbled (ERRATA 11) and are not used. Tuples 
 stored: they are enumerated from the neighbour lists inside the kernel (a 3D horizon of
 3.01 h holds ~1.8e5 quadruples per point, far too many to keep in memory). The tangent of
 one central point is accumulated in a dense local matrix over {p} + horizon(p), then
-added once into the fixed block-structured CSR pattern (see ``assembly.py``).
+added once into a target (:func:`_scatter`): the fixed block-structured CSR pattern, or
+the tangent over the free DOFs directly (``assembly.reduced_target``: no full tangent
+and no second pass to reduce it). The pair (psi1) blocks are kept apart, so the pair
+part of the tangent, which preconditions the Newton steps, can be added into its own
+target in the same pass (:func:`_scatter_pairs`).
 
 The helpers called once per tuple (or per pair of neighbours) are inlined into the
 kernels by numba (``inline='always'``): as separate functions every call passed its arrays

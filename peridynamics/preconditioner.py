@@ -10,9 +10,11 @@ part of the same sign), and a quarter as wide. Its float32 Cholesky factors prec
 conjugate gradients on the exact tangent (:class:`peridynamics.newton.TangentSolver`).
 
 Measured at 100 x 100 points, delta = 3.01 h, set 3, one core, under load (19.6k free
-DOFs): the pair tangent has 1.11M stored entries (the whole one 3.47M) and is evaluated
-and reduced in 0.04-0.06 s, its float32 Cholesky takes 0.08-0.10 s (the whole tangent's
-0.33-0.40 s) and its triangular solve 6-8 ms; CG on the exact tangent with it reaches
+DOFs): the pair tangent has 1.11M stored entries (the whole one 3.47M); evaluated in the
+kernel pass of the whole tangent, straight into both free-DOF matrices, it adds 0.01 s
+(0.12 s for both instead of 0.11 s for the tangent alone; 0.017 s in a pass of its own),
+its float32 Cholesky takes 0.06-0.10 s (the whole tangent's 0.27-0.40 s) and its
+triangular solve 3-8 ms; CG on the exact tangent with it reaches
 1e-10 in 12 iterations, the forcing terms of the three Newton iterations (1e-3, 1e-4,
 1e-6) in 2, 4 and 8; the Newton residual histories equal those of the tangent's own
 factors to the forcing terms' accuracy (quadratic, 3 iterations). Whole-solve figures and
