@@ -21,20 +21,21 @@ factorisation serves all iterations and load steps while the tangent stays close
 so an iteration costs one tangent assembly and a few triangular solves.
 
 Measured (``benchmarks/bench_cpd.py --old``, bimaterial square, set 3, delta = 3.01 h,
-one core, CPU seconds, both trees in one run; two runs at load 3.7 and 4.5 on 2 cores,
-the first in ``bench_cpd.json``). The fresh-factorisation iteration (assembly + reduction
-+ factors + solve to the first forcing term) at 100 x 100 points (10.6k points, 19.6k
-free DOFs): 0.314 / 0.389 s with the pair factors (tangent assembly 0.156 / 0.189,
-reduction 0.008, pair tangent 0.047 / 0.061, its float32 Cholesky 0.081 / 0.084, with 2 CG
-iterations to 1e-3 0.103 / 0.131) against 0.700 / 0.623 s before (assembly 0.268 / 0.210,
-factorisation of the whole tangent 0.385 / 0.329, solve 0.419 / 0.403): 2.23x / 1.60x,
-not the 0.3 s asked. Over 2.8k / 5.3k / 10.6k points: 0.077 / 0.164 / 0.314 s (before
-0.112 / 0.269 / 0.700) and 0.071 / 0.174 / 0.389 s (0.101 / 0.278 / 0.623). Whole solves:
-3 Newton iterations (1 load step) and 5 (3 steps) as before, residual histories equal to
-the forcing terms' accuracy (10.6k points: 1, 9.5e-3, 9.6e-7, 1.0e-13 against 1, 9.8e-3,
-7.7e-7, 1.8e-13), CG iterations 14 / 31 instead of 5 / 8, no factorisation of the tangent;
-1.44x / 1.63x faster at 10.6k points in the first run, 1.09x / 1.03x in the second
-(1.0-1.8x over the three sizes and both runs).
+one core, CPU seconds, both trees in one run; two runs on 2 cores at load 2.0-2.6 with
+OMP_NUM_THREADS=1, the first in ``bench_cpd.json``, and at 1.6-1.8 without it). Under load
+control :class:`Equations` has the kernels add the tangent straight into K_ff
+(``assembly.reduced_target``) and, when the next solve will factorise, the pair part into
+its own K_ff in the same pass. The fresh-factorisation iteration (that pass + pair factors
++ CG to the first forcing term) at 100 x 100 points (10.6k points, 19.6k free DOFs):
+0.213 / 0.222 s (the pass 0.121, the tangent alone 0.109; pair float32 Cholesky 0.061; 2
+CG iterations 0.03) against 0.300 / 0.405 s before (assembly 0.161 + reduction 0.012 +
+pair tangent 0.033 + the same factorisation; the second run's CG on numpy's OpenBLAS
+threads took 0.13 s): 1.41x / 1.82x. Over 2.8k / 5.3k / 10.6k points: 0.045 / 0.099 /
+0.213 s (before 0.067 / 0.145 / 0.300) and 0.045 / 0.100 / 0.222 s (0.066 / 0.141 /
+0.405). Whole solves: 3 Newton iterations (1 load step) and 5 (3 steps) with 14 / 31 CG
+iterations as before, residual histories equal to round-off (10.6k points: 1, 9.5e-3,
+9.6e-7, 1.0e-13), solutions to 3e-14 relative; 1.49x / 1.38x faster at 10.6k points in
+the first run (1.4-1.6x over the three sizes), 2.22x / 2.41x in the second.
 
 Tried and not kept (100 x 100 points, same load):
 
@@ -48,6 +49,9 @@ Tried and not kept (100 x 100 points, same load):
   factorisation 0.056 / 0.042 / 0.019 s instead of 0.104 s, but 3 / 6 / 8 CG iterations to
   1e-3 and 15 / 24 / 29 to 1e-10 instead of 2 and 12: at 2.5 h the fresh iteration is
   0.04 s faster and every later one slower;
+* the lower neighbour blocks (b, a) of the 2D local tangent left unwritten and read from
+  their transposes by the central-row sums and the scatter (bit-identical): 0.111 s for the
+  tangent into K_ff instead of 0.101-0.110, not faster (column reads instead of writes);
 * dropping the 17 % structurally zero entries of the 2-delta pattern (kept: products and reduction
   25-40 % faster) leaves the factorisation time unchanged (0.34-0.40 s either way: the
   fill is the same).
