@@ -18,6 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
+from .reduction import ReducedMatrix
 from .kernels import assemble_blocks, block_slots, coupled_blocks, dof_columns, full_layout, horizon_radius2, within
 
 
@@ -326,7 +327,7 @@ def full_target(blocks: list[MaterialBlock], pattern: Pattern, constant: np.ndar
                          tangent_slots(blocks, pattern, boff, budget), constant)
 
 
-def reduced_target(system: "CPDSystem", red) -> ScatterTarget | None:
+def reduced_target(system: "CPDSystem", red: ReducedMatrix) -> ScatterTarget | None:
     """The tangent over the free DOFs (the :class:`~peridynamics.reduction.ReducedMatrix`
     ``red``) as a scatter target: the kernels add into K_ff directly, without the full tangent
     and its gather (None where that does not apply: DOFs identified by the compliant overlap,
@@ -338,7 +339,8 @@ def reduced_target(system: "CPDSystem", red) -> ScatterTarget | None:
     before b in the row."""
     pat = system.pattern
     full = system.target
-    if not (system.dofs.identity and red.injective and all(len(s) for s, _ in full.slots)):
+    if not (system.dofs.identity and red.injective and np.all(np.diff(red.free) > 0)
+            and all(len(s) for s, _ in full.slots)):
         return None
     d, n = pat.d, pat.n_nodes
     pos = np.full(n * d, -1, dtype=np.int64)
@@ -346,17 +348,14 @@ def reduced_target(system: "CPDSystem", red) -> ScatterTarget | None:
     is_free = (pos >= 0).reshape(n, d)
     coff = np.where(is_free, np.cumsum(is_free, axis=1) - 1, -1).astype(np.int64)
     starts = np.where(is_free, red.indptr[np.maximum(pos, 0)].reshape(n, d), -1).astype(np.int64)
-    nfree = is_free.sum(axis=1)[pat.cols]                 # free columns of each pattern block
-    before = np.cumsum(nfree) - nfree                     # within the whole array ...
-    first = np.repeat(before[pat.rowptr[:-1]] if len(before) else np.zeros(n, np.int64), np.diff(pat.rowptr))
-    boff = (before - first).astype(np.int64)              # ... and within each row
-    row_len = np.add.reduceat(nfree, pat.rowptr[:-1]) if len(nfree) else np.zeros(n, np.int64)
-    row_len[np.diff(pat.rowptr) == 0] = 0
+    cum = np.zeros(len(pat.cols) + 1, dtype=np.int64)    # free columns before each pattern block
+    np.cumsum(is_free.sum(axis=1)[pat.cols], out=cum[1:])
+    boff = cum[:-1] - np.repeat(cum[pat.rowptr[:-1]], np.diff(pat.rowptr))     # ... within its row
+    row_len = cum[pat.rowptr[1:]] - cum[pat.rowptr[:-1]]
     if not np.array_equal(np.diff(red.indptr), np.repeat(row_len, d)[red.free]):
         raise ValueError("reduced tangent pattern does not follow the block pattern")
     constant = None if full.constant is None else red(full.constant).data.copy()
-    multi = [b.multi for b in system.blocks]
-    slots = [block_slots(b.centers, b.nptr, b.nidx, pat.rowptr, pat.cols, boff, m) for b, m in zip(system.blocks, multi)]
+    slots = [block_slots(b.centers, b.nptr, b.nidx, pat.rowptr, pat.cols, boff, b.multi) for b in system.blocks]
     return ScatterTarget(pat, red.indptr, red.indices, red.shape, starts, coff, slots, constant)
 
 
