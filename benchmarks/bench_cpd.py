@@ -13,16 +13,25 @@ the Krylov preconditioner; and a whole Newton
 solve (1 and 3 load steps: iterations, residual history, factorisations, Krylov
 iterations, time per iteration), with the default preconditioner of each tree. Trees with
 ``peridynamics.preconditioner`` also report the fresh iteration of the default inexact
-Newton step: the pair part of the tangent evaluated and reduced, its float32 Cholesky,
-and CG on the exact tangent to the first forcing term (``iteration(fresh, pairs)``;
-"fresh iteration old / pair-preconditioned" compares it with the old tree's fresh
-iteration). Three sizes (h = 0.02, 0.0141, 0.01). Times are the
+Newton step: the pair part of the tangent, its float32 Cholesky, and CG on the exact
+tangent to the first forcing term (``iteration(fresh, pairs)``; "fresh iteration old /
+pair-preconditioned" compares it with the old tree's fresh iteration). Trees whose kernels
+assemble into the free-DOF matrix (``assembly.reduced_target``) time that (``K_ff
+direct``) and the pass that adds the tangent and its pair part into their free-DOF
+matrices at once (``K_ff+pairs one pass``, the Newton loop's assembly before a
+factorisation): their fresh iteration is that pass + factorisation + CG, the others' is
+assembly + reduction + pair tangent + factorisation + CG. Three sizes (h = 0.02, 0.0141,
+0.01). Times are the
 best of a few repetitions, wall clock and process CPU time (the machine is shared: CPU
 time is what one core spends). With ``--old PATH`` (a checkout of the previous commit,
 e.g. ``git worktree add --detach /tmp/cpd_old main``) the same measurement runs on that
 tree in a subprocess in the same run, and the ratios old / new are reported.
 
-    NUMBA_NUM_THREADS=1 MKL_NUM_THREADS=1 python benchmarks/bench_cpd.py [--old /tmp/cpd_old] [--out file.json]
+    NUMBA_NUM_THREADS=1 MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/bench_cpd.py [--old /tmp/cpd_old] [--out file.json]
+
+(OMP_NUM_THREADS=1 keeps numpy's OpenBLAS on one core too. Trees before the one-thread
+vector products of ``peridynamics.newton.vdot`` need it: with OpenBLAS's default two
+threads on the loaded 2-core machine their 2 CG iterations took 0.13 s instead of 0.03 s.)
 """
 from __future__ import annotations
 
@@ -176,6 +185,9 @@ def _pair_preconditioner(row: dict, system, free, u, K, R) -> None:
         return
     pairs = _timed(row, "pair_tangent_build", lambda: PairTangent(system, free), 1)
     P = _timed(row, "pair_tangent", lambda: pairs(u))
+    fused = _fused_assembly(row, system, free, u, pairs)
+    if fused is not None:                 # the same K_ff and pair tangent, in one pass
+        K, P = fused
     solver = TangentSolver(reuse=True)
     solver.solve(K, -R, rtol=1e-3, approx=lambda: P)            # analysis of P's pattern
     _timed(row, "pair_factorization", lambda: solver.approx_direct.factorize(P))
@@ -191,9 +203,30 @@ def _pair_preconditioner(row: dict, system, free, u, K, R) -> None:
         row[f"pair_fresh_relative_residual{tag}"] = float(np.linalg.norm(K @ x + R) / np.linalg.norm(R))
     row["pair_reduced_nnz"] = int(P.nnz)
     for clock in ("time", "cpu"):
-        row[f"{clock}_newton_iteration_fresh_pairs_s"] = (
-            row[f"{clock}_tangent_assembly_s"] + row[f"{clock}_reduce_s"] + row[f"{clock}_pair_tangent_s"]
-            + row[f"{clock}_pair_fresh_linear_solve_s"])
+        assembly = (row[f"{clock}_tangent_and_pairs_s"] if fused is not None else
+                    row[f"{clock}_tangent_assembly_s"] + row[f"{clock}_reduce_s"] + row[f"{clock}_pair_tangent_s"])
+        row[f"{clock}_newton_iteration_fresh_pairs_s"] = assembly + row[f"{clock}_pair_fresh_linear_solve_s"]
+
+
+def _fused_assembly(row: dict, system, free, u, pairs):
+    """Trees whose kernels assemble K_ff directly (``assembly.reduced_target``): the tangent into
+    K_ff alone (``tangent_reduced``) and with the pair tangent in the same pass
+    (``tangent_and_pairs``, the assembly of the default Newton step's fresh iteration; it
+    replaces assembly + reduction + pair tangent). Returns (K_ff, P) or None."""
+    import numpy as np
+
+    try:
+        from peridynamics.assembly import reduced_target
+        from peridynamics.reduction import ReducedMatrix
+    except ImportError:
+        return None
+    target = reduced_target(system, ReducedMatrix(system, free))
+    if target is None or pairs.fused is None:
+        return None
+    buf = np.empty(target.nnz)
+    _timed(row, "tangent_reduced", lambda: system.evaluate(u, True, out=buf, target=target))
+    ev = _timed(row, "tangent_and_pairs", lambda: system.evaluate(u, True, out=buf, target=target, pairs=pairs.fused))
+    return ev.tangent, ev.pair_tangent
 
 
 def _run_in(tree: Path, h: float) -> dict:
@@ -209,7 +242,9 @@ def _line(tag: str, r: dict) -> str:
     n3 = r["newton_3_steps"]
     pairs = ""
     if "cpu_newton_iteration_fresh_pairs_s" in r:
-        pairs = (f" | pair preconditioner ({r['pair_reduced_nnz']} nnz): tangent={r['cpu_pair_tangent_s']:.3f} "
+        fused = (f"K_ff direct={r['cpu_tangent_reduced_s']:.3f} K_ff+pairs one pass={r['cpu_tangent_and_pairs_s']:.3f} "
+                 if "cpu_tangent_and_pairs_s" in r else "")
+        pairs = (f" | pair preconditioner ({r['pair_reduced_nnz']} nnz): {fused}tangent={r['cpu_pair_tangent_s']:.3f} "
                  f"factor={r['cpu_pair_factorization_s']:.3f} fresh-solve={r['cpu_pair_fresh_linear_solve_s']:.3f} "
                  f"({r['pair_fresh_krylov_iterations']:.0f} CG its to 1e-3, "
                  f"{r['pair_fresh_krylov_iterations_1e-10']:.0f} to 1e-10 in "
@@ -267,7 +302,10 @@ def main(argv=None) -> dict:
                   f"triangular solve {rr['cpu_triangular_solve_s']:.2f}x, "
                   f"Newton solve 1 step {rr['newton_1_steps_cpu']:.2f}x, 3 steps {rr['newton_3_steps_cpu']:.2f}x"
                   + (f", fresh iteration old / pair-preconditioned {rr['cpu_fresh_iteration_old_over_pairs']:.2f}x"
-                     if "cpu_fresh_iteration_old_over_pairs" in rr else ""),
+                     if "cpu_fresh_iteration_old_over_pairs" in rr else "")
+                  + (f", pair-preconditioned fresh iteration {rr['cpu_newton_iteration_fresh_pairs_s']:.2f}x"
+                     f" (wall {rr['time_newton_iteration_fresh_pairs_s']:.2f}x)"
+                     if "cpu_newton_iteration_fresh_pairs_s" in rr else ""),
                   flush=True)
     out = {"case": "bimaterial_square set 3, vertical interface, load case I, delta = 3.01 h, cell grid",
            "threads": {k: os.environ.get(k) for k in ("NUMBA_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")},

@@ -18,7 +18,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from .kernels import assemble_blocks, block_slots, coupled_blocks, dof_columns, horizon_radius2, within
+from .reduction import ReducedMatrix
+from .kernels import assemble_blocks, block_slots, coupled_blocks, dof_columns, full_layout, horizon_radius2, within
 
 
 @dataclass
@@ -189,9 +190,11 @@ class Evaluation:
     energy: float
     residual: np.ndarray            # (N, d) dW/dx
     point_energy: np.ndarray        # (N,) energy of the interactions of each central point
-    tangent: sp.csr_matrix | None
+    tangent: sp.csr_matrix | None   # in the layout of the target it was assembled into
     tuples: dict
     spring_energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: the pair part of the tangent when it was asked for (``CPDSystem.evaluate(pairs=...)``)
+    pair_tangent: sp.csr_matrix | None = None
 
 
 class DofMap:
@@ -259,13 +262,101 @@ def dof_position(pattern: Pattern, r: np.ndarray, c: np.ndarray, al: int, be: in
 SLOT_BUDGET = 512 * 2 ** 20
 
 
-def tangent_slots(blocks: list[MaterialBlock], pattern: Pattern, budget: int = SLOT_BUDGET) -> list:
-    """Per material block the (slots, sptr) of :func:`kernels.block_slots`, or empty arrays for
-    every block when all of them together would take more than ``budget`` bytes."""
+def tangent_slots(blocks: list[MaterialBlock], pattern: Pattern, boff: np.ndarray,
+                  budget: int = SLOT_BUDGET, multi: bool | None = None) -> list:
+    """Per material block the (slots, sptr) of :func:`kernels.block_slots` with the block
+    offsets ``boff`` of a target layout, or empty arrays for every block when all of them
+    together would take more than ``budget`` bytes. ``multi`` None: each block's own."""
     need = sum(4 * int(np.sum((np.diff(b.nptr) + 1) ** 2)) for b in blocks)
     if need > budget:
         return [(np.zeros(0, np.int32), np.zeros(1, np.int64)) for _ in blocks]
-    return [block_slots(b.centers, b.nptr, b.nidx, pattern.rowptr, pattern.cols, b.multi) for b in blocks]
+    return [block_slots(b.centers, b.nptr, b.nidx, pattern.rowptr, pattern.cols, boff,
+                        b.multi if multi is None else multi) for b in blocks]
+
+
+@dataclass
+class ScatterTarget:
+    """Where the kernels add the tangent (:func:`kernels._scatter`): a CSR matrix (``indptr``,
+    ``indices``, ``shape``) whose DOF row (a, al) starts at ``rows[a, al]`` of its data and
+    holds the column DOF (b, be) at ``coff[b, be]`` within node b's block, the blocks at the
+    offsets ``slots`` (per material block, :func:`tangent_slots`; or found by binary search in
+    ``pattern``: full layout only); ``constant`` (or None) is added after the kernels (the
+    compliant-overlap springs). The full block pattern and the tangent reduced to the free
+    DOFs (:func:`reduced_target`) are both targets."""
+
+    pattern: Pattern
+    indptr: np.ndarray
+    indices: np.ndarray
+    shape: tuple
+    rows: np.ndarray
+    coff: np.ndarray
+    slots: list
+    constant: np.ndarray | None = None
+
+    @property
+    def nnz(self) -> int:
+        return int(self.indptr[-1])
+
+    def matrix(self, data: np.ndarray) -> sp.csr_matrix:
+        return sp.csr_matrix((data, self.indices, self.indptr), shape=self.shape)
+
+    def kernel_args(self, data: np.ndarray, k: int) -> tuple:
+        """The tuple :func:`kernels._scatter` takes, for material block ``k``."""
+        slots, sptr = self.slots[k]
+        return data, self.rows, self.coff, slots, sptr, self.pattern.rowptr, self.pattern.cols
+
+    def buffer(self, out: np.ndarray | None) -> np.ndarray:
+        """``out`` checked and zeroed (a Newton loop refills one buffer: no page faults of a fresh
+        10^7-entry array), or a new zero array."""
+        if out is None:
+            return np.zeros(self.nnz)
+        if out.shape != (self.nnz,) or out.dtype != np.float64:
+            raise ValueError(f"out must be a float64 array of {self.nnz} entries")
+        out.fill(0.0)
+        return out
+
+
+def full_target(blocks: list[MaterialBlock], pattern: Pattern, constant: np.ndarray | None = None,
+                budget: int = SLOT_BUDGET) -> ScatterTarget:
+    """The full block-CSR pattern as a scatter target (block offset d (kk - rowptr[a]))."""
+    d = pattern.d
+    rows, coff = full_layout(pattern.rowptr, d)
+    boff = d * (np.arange(len(pattern.cols), dtype=np.int64) - np.repeat(pattern.rowptr[:-1], np.diff(pattern.rowptr)))
+    n = pattern.n_nodes * d
+    return ScatterTarget(pattern, pattern.indptr, pattern.indices, (n, n), rows, coff,
+                         tangent_slots(blocks, pattern, boff, budget), constant)
+
+
+def reduced_target(system: "CPDSystem", red: ReducedMatrix) -> ScatterTarget | None:
+    """The tangent over the free DOFs (the :class:`~peridynamics.reduction.ReducedMatrix`
+    ``red``) as a scatter target: the kernels add into K_ff directly, without the full tangent
+    and its gather (None where that does not apply: DOFs identified by the compliant overlap,
+    or no block slots within the memory budget).
+
+    With the identity DOF map and free DOFs in increasing order, reduced row (a, al) holds, for
+    every node b of pattern row a in order, the free components of b: both rows of a node
+    share their columns, and block (a, b) starts after the free components of the nodes
+    before b in the row."""
+    pat = system.pattern
+    full = system.target
+    if not (system.dofs.identity and red.injective and np.all(np.diff(red.free) > 0)
+            and all(len(s) for s, _ in full.slots)):
+        return None
+    d, n = pat.d, pat.n_nodes
+    pos = np.full(n * d, -1, dtype=np.int64)
+    pos[red.free] = np.arange(len(red.free))
+    is_free = (pos >= 0).reshape(n, d)
+    coff = np.where(is_free, np.cumsum(is_free, axis=1) - 1, -1).astype(np.int64)
+    starts = np.where(is_free, red.indptr[np.maximum(pos, 0)].reshape(n, d), -1).astype(np.int64)
+    cum = np.zeros(len(pat.cols) + 1, dtype=np.int64)    # free columns before each pattern block
+    np.cumsum(is_free.sum(axis=1)[pat.cols], out=cum[1:])
+    boff = cum[:-1] - np.repeat(cum[pat.rowptr[:-1]], np.diff(pat.rowptr))     # ... within its row
+    row_len = cum[pat.rowptr[1:]] - cum[pat.rowptr[:-1]]
+    if not np.array_equal(np.diff(red.indptr), np.repeat(row_len, d)[red.free]):
+        raise ValueError("reduced tangent pattern does not follow the block pattern")
+    constant = None if full.constant is None else red(full.constant).data.copy()
+    slots = [block_slots(b.centers, b.nptr, b.nidx, pat.rowptr, pat.cols, boff, b.multi) for b in system.blocks]
+    return ScatterTarget(pat, red.indptr, red.indices, red.shape, starts, coff, slots, constant)
 
 
 class CPDSystem:
@@ -287,8 +378,8 @@ class CPDSystem:
         has_springs = springs is not None and springs.count > 0
         extra = (springs.node_a, springs.node_b) if has_springs else None
         self.pattern = build_pattern(self.X, blocks, delta, extra)
-        self._slots = tangent_slots(blocks, self.pattern)
         self.springs = SpringBlock(springs, self.pattern) if has_springs else None
+        self.target = full_target(blocks, self.pattern, self.springs.data if has_springs else None)
         self.dofs = DofMap(self.X.size, ties)
         self._cpar = [
             tuple(np.full(len(b.centers), b.C[k], dtype=np.float64) for k in range(3)) for b in blocks
@@ -302,31 +393,34 @@ class CPDSystem:
     def dim(self) -> int:
         return self.X.shape[1]
 
-    def evaluate(self, u: np.ndarray, tangent: bool = True, out: np.ndarray | None = None) -> Evaluation:
+    def evaluate(self, u: np.ndarray, tangent: bool = True, out: np.ndarray | None = None,
+                 target: ScatterTarget | None = None,
+                 pairs: tuple[ScatterTarget, np.ndarray] | None = None) -> Evaluation:
         """Energy W(u), residual dW/du and (optionally) tangent d2W/du2.
 
-        ``out`` (pattern.nnz float64) receives the tangent values instead of a new array (a
-        Newton loop refilling one buffer spares the page faults of a fresh 10^7-entry
-        array); the returned tangent then shares it and is overwritten by the next call.
+        The tangent goes into ``target`` (default: the full block pattern, ``self.target``; a
+        :func:`reduced_target` gives K_ff directly). ``out`` (target.nnz float64) receives its
+        values instead of a new array (a Newton loop refilling one buffer spares the page
+        faults of a fresh 10^7-entry array); the returned tangent then shares it and is
+        overwritten by the next call. ``pairs`` = (target, buffer): the tangent of the
+        one-neighbour interactions alone (the pair part preconditioning the Newton steps,
+        :mod:`peridynamics.preconditioner`; its target built for the materials with constants
+        (C1, 0, 0)) is evaluated in the same pass into the buffer (``pair_tangent``).
         """
         u = np.ascontiguousarray(u, dtype=np.float64).reshape(self.X.shape)
         f = np.zeros_like(self.X)
-        if tangent and out is not None:
-            if out.shape != (self.pattern.nnz,) or out.dtype != np.float64:
-                raise ValueError(f"out must be a float64 array of {self.pattern.nnz} entries")
-            data = out
-            data.fill(0.0)
-        else:
-            data = np.zeros(self.pattern.nnz if tangent else 0)
+        target = self.target if target is None else target
+        data = target.buffer(out) if tangent else np.zeros(0)
+        pdata = pairs[0].buffer(pairs[1]) if tangent and pairs is not None else np.zeros(0)
         energy = 0.0
         e_node = np.zeros(self.n_nodes)
         counts = {"pairs": 0, "triples": 0, "quadruples": 0}
-        for blk, (c1, c2, c3), (cptr, bptr), (slots, sptr) in zip(self.blocks, self._cpar, self._colours,
-                                                                  self._slots):
-            e, n1, n2, n3 = assemble_blocks(self.X, u, blk.centers, blk.nptr, blk.nidx, c1, c2, c3,
-                                            self.vol, tangent, self.pattern.rowptr, self.pattern.cols,
-                                            data, f, e_node, horizon_radius2(self.delta), cptr, bptr,
-                                            slots, sptr)
+        for k, (blk, (c1, c2, c3), (cptr, bptr)) in enumerate(zip(self.blocks, self._cpar, self._colours)):
+            into = target.kernel_args(data, k)
+            into_pairs = pairs[0].kernel_args(pdata, k) if len(pdata) else (pdata,) + into[1:]
+            e, n1, n2, n3 = assemble_blocks(self.X, u, blk.centers, blk.nptr, blk.nidx, c1, c2, c3, self.vol,
+                                            tangent, f, e_node, horizon_radius2(self.delta), cptr, bptr,
+                                            into, into_pairs)
             energy += e
             counts["pairs"] += n1
             counts["triples"] += n2
@@ -335,7 +429,16 @@ class CPDSystem:
         if self.springs is not None:
             e_spring = self.springs.add(u, f)
             energy += float(e_spring.sum())
-            if tangent:
-                data += self.springs.data
-        K = self.pattern.matrix(data) if tangent else None
-        return Evaluation(energy, f, e_node, K, counts, e_spring)
+        K = P = None
+        if tangent:
+            K = target.matrix(_plus(data, target.constant))
+            if len(pdata):
+                P = pairs[0].matrix(_plus(pdata, pairs[0].constant))
+        return Evaluation(energy, f, e_node, K, counts, e_spring, P)
+
+
+def _plus(data: np.ndarray, constant: np.ndarray | None) -> np.ndarray:
+    """data += constant (in place) where there is one."""
+    if constant is not None:
+        data += constant
+    return data

@@ -21,20 +21,21 @@ factorisation serves all iterations and load steps while the tangent stays close
 so an iteration costs one tangent assembly and a few triangular solves.
 
 Measured (``benchmarks/bench_cpd.py --old``, bimaterial square, set 3, delta = 3.01 h,
-one core, CPU seconds, both trees in one run; two runs at load 3.7 and 4.5 on 2 cores,
-the first in ``bench_cpd.json``). The fresh-factorisation iteration (assembly + reduction
-+ factors + solve to the first forcing term) at 100 x 100 points (10.6k points, 19.6k
-free DOFs): 0.314 / 0.389 s with the pair factors (tangent assembly 0.156 / 0.189,
-reduction 0.008, pair tangent 0.047 / 0.061, its float32 Cholesky 0.081 / 0.084, with 2 CG
-iterations to 1e-3 0.103 / 0.131) against 0.700 / 0.623 s before (assembly 0.268 / 0.210,
-factorisation of the whole tangent 0.385 / 0.329, solve 0.419 / 0.403): 2.23x / 1.60x,
-not the 0.3 s asked. Over 2.8k / 5.3k / 10.6k points: 0.077 / 0.164 / 0.314 s (before
-0.112 / 0.269 / 0.700) and 0.071 / 0.174 / 0.389 s (0.101 / 0.278 / 0.623). Whole solves:
-3 Newton iterations (1 load step) and 5 (3 steps) as before, residual histories equal to
-the forcing terms' accuracy (10.6k points: 1, 9.5e-3, 9.6e-7, 1.0e-13 against 1, 9.8e-3,
-7.7e-7, 1.8e-13), CG iterations 14 / 31 instead of 5 / 8, no factorisation of the tangent;
-1.44x / 1.63x faster at 10.6k points in the first run, 1.09x / 1.03x in the second
-(1.0-1.8x over the three sizes and both runs).
+one core, CPU seconds, both trees in one run; two runs on 2 cores at load 2.0-2.6 with
+OMP_NUM_THREADS=1, the first in ``bench_cpd.json``, and at 1.6-1.8 without it). Under load
+control :class:`Equations` has the kernels add the tangent straight into K_ff
+(``assembly.reduced_target``) and, when the next solve will factorise, the pair part into
+its own K_ff in the same pass. The fresh-factorisation iteration (that pass + pair factors
++ CG to the first forcing term) at 100 x 100 points (10.6k points, 19.6k free DOFs):
+0.213 / 0.222 s (the pass 0.121, the tangent alone 0.109; pair float32 Cholesky 0.061; 2
+CG iterations 0.03) against 0.300 / 0.405 s before (assembly 0.161 + reduction 0.012 +
+pair tangent 0.033 + the same factorisation; the second run's CG on numpy's OpenBLAS
+threads took 0.13 s): 1.41x / 1.82x. Over 2.8k / 5.3k / 10.6k points: 0.045 / 0.099 /
+0.213 s (before 0.067 / 0.145 / 0.300) and 0.045 / 0.100 / 0.222 s (0.066 / 0.141 /
+0.405). Whole solves: 3 Newton iterations (1 load step) and 5 (3 steps) with 14 / 31 CG
+iterations as before, residual histories equal to round-off (10.6k points: 1, 9.5e-3,
+9.6e-7, 1.0e-13), solutions to 3e-14 relative; 1.49x / 1.38x faster at 10.6k points in
+the first run (1.4-1.6x over the three sizes), 2.22x / 2.41x in the second.
 
 Tried and not kept (100 x 100 points, same load):
 
@@ -48,6 +49,9 @@ Tried and not kept (100 x 100 points, same load):
   factorisation 0.056 / 0.042 / 0.019 s instead of 0.104 s, but 3 / 6 / 8 CG iterations to
   1e-3 and 15 / 24 / 29 to 1e-10 instead of 2 and 12: at 2.5 h the fresh iteration is
   0.04 s faster and every later one slower;
+* the lower neighbour blocks (b, a) of the 2D local tangent left unwritten and read from
+  their transposes by the central-row sums and the scatter (bit-identical): 0.111 s for the
+  tangent into K_ff instead of 0.101-0.110, not faster (column reads instead of writes);
 * dropping the 17 % structurally zero entries of the 2-delta pattern (kept: products and reduction
   25-40 % faster) leaves the factorisation time unchanged (0.34-0.40 s either way: the
   fill is the same).
@@ -55,17 +59,19 @@ Tried and not kept (100 x 100 points, same load):
 from __future__ import annotations
 
 import logging
+import math
 import time
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
+from numba import njit
 from scipy.sparse.linalg import LinearOperator, gmres
 
 from interfaces.errors import SolverError
 from interfaces.sparse import DirectSolver, SingularMatrixError
 
-from .assembly import CPDSystem
+from .assembly import CPDSystem, reduced_target
 from .preconditioner import PairTangent, pair_preconditioner_applies
 from .reduction import ReducedMatrix
 
@@ -113,6 +119,23 @@ class NewtonOutcome:
     linear: dict = field(default_factory=dict)        # factorisation / Krylov counts
 
 
+@njit(cache=True)
+def vdot(a: np.ndarray, b: np.ndarray) -> float:
+    """a . b on one thread. numpy's dot hands vectors of this size to OpenBLAS, which splits
+    them over its threads (all cores unless OMP/OPENBLAS_NUM_THREADS say otherwise); on the
+    loaded 2-core machine their synchronisation made the 2 CG iterations of a fresh Newton
+    step at 100 x 100 points 0.13 s instead of 0.03 s."""
+    s = 0.0
+    for i in range(a.shape[0]):
+        s += a[i] * b[i]
+    return s
+
+
+def vnorm(a: np.ndarray) -> float:
+    """||a||_2 on one thread (:func:`vdot`)."""
+    return math.sqrt(vdot(a, a))
+
+
 def pcg(K, r: np.ndarray, precondition, rtol: float, maxiter: int):
     """Preconditioned conjugate gradients for the symmetric positive definite K x = r.
 
@@ -122,7 +145,7 @@ def pcg(K, r: np.ndarray, precondition, rtol: float, maxiter: int):
     (None, iterations) when it does not converge within ``maxiter`` or meets a direction
     of non-positive curvature (K not positive definite: the caller refactorises).
     """
-    rn0 = float(np.linalg.norm(r))
+    rn0 = vnorm(r)
     if rn0 == 0.0:
         return np.zeros_like(r), 0
     goal = rtol * rn0
@@ -131,21 +154,21 @@ def pcg(K, r: np.ndarray, precondition, rtol: float, maxiter: int):
     p = None
     rz = 1.0
     it = 0
-    while float(np.linalg.norm(res)) > goal:
+    while vnorm(res) > goal:
         if it == maxiter or not np.all(np.isfinite(res)):
             return None, it
         z = precondition(res)
-        rz, rz_old = float(res @ z), rz
+        rz, rz_old = vdot(res, z), rz
         p = z if p is None else z + (rz / rz_old) * p
         q = K @ p
-        pq = float(p @ q)
+        pq = vdot(p, q)
         if not pq > 0.0:
             return None, it
         alpha = rz / pq
         x += alpha * p
         res -= alpha * q
         it += 1
-    ok = np.linalg.norm(r - K @ x) <= 2.0 * goal        # the recursive residual drifts by round-off
+    ok = vnorm(r - K @ x) <= 2.0 * goal        # the recursive residual drifts by round-off
     return (x if ok else None), it
 
 
@@ -224,6 +247,11 @@ class TangentSolver:
         self.stats = {"factorizations": 0, "krylov_solves": 0, "krylov_iterations": 0, "precision_fallbacks": 0,
                       "krylov_method": None, "approx_factorizations": 0, "approx_fallbacks": 0}
         self.times = {"factorization": 0.0, "triangular_solves": 0.0, "krylov": 0.0}
+
+    def wants_approx(self) -> bool:
+        """True when the next :meth:`solve` given ``approx`` will factorise it (no factors to
+        reuse): the caller may then evaluate the approximation along with the tangent."""
+        return self.reuse and self.use_approx and not (self.factored and not self.stale)
 
     def _direct(self) -> DirectSolver:
         return DirectSolver(self.kind, ordering="metis", try_cholesky=True, ordering_effort=ORDERING_EFFORT,
@@ -412,9 +440,12 @@ class Equations:
         self.pairs = PairTangent(system, self.free) if use_pairs else None
         self._state = (None, None)              # (evaluation with a tangent, its independent DOFs)
         self.times = {"assembly": 0.0, "linear_solve": 0.0, "line_search": 0.0}
+        # under load control the kernels assemble K_ff itself (no full tangent, no gather; the
+        # arc-length driver needs the full one for K_fc u_bar)
+        self.target = reduced_target(system, self.red) if opts.path == "load" else None
         # one tangent buffer and one reduced-matrix buffer, refilled by every evaluation: only
         # the current tangent is ever used (the factors live in the direct solver)
-        self._tangent_buffer = np.empty(system.pattern.nnz)
+        self._tangent_buffer = np.empty(system.pattern.nnz) if self.target is None else None
         self._reduced_buffer = np.empty(len(self.red.indices)) if self.red.injective else None
         self._reduced = (None, None)
         self._say = opts.report or log.info
@@ -425,7 +456,13 @@ class Equations:
 
     def evaluate(self, v: np.ndarray, tangent: bool):
         t0 = time.perf_counter()
-        ev = self.system.evaluate(self.dofs.expand(v), tangent, out=self._tangent_buffer if tangent else None)
+        u = self.dofs.expand(v)
+        if tangent and self.target is not None:
+            # the pair part in the same pass when the next solve will factorise it
+            fused = self.pairs.fused if self.pairs is not None and self.lin.wants_approx() else None
+            ev = self.system.evaluate(u, True, out=self._reduced_buffer, target=self.target, pairs=fused)
+        else:
+            ev = self.system.evaluate(u, tangent, out=self._tangent_buffer if tangent else None)
         if tangent:
             self._state = (ev, v.copy())
         dt = time.perf_counter() - t0
@@ -439,7 +476,7 @@ class Equations:
 
     def energy(self, ev, v: np.ndarray, lam: float) -> float:
         """Potential energy W - lam f_ext . v (free DOFs)."""
-        return ev.energy - lam * float(self.fext[self.free] @ v[self.free])
+        return ev.energy - lam * vdot(self.fext[self.free], v[self.free])
 
     def load_derivative(self, ev) -> np.ndarray:
         """dG/dlam on the free DOFs: K_fc u_bar_c - f_ext,f with the tangent of ``ev``."""
@@ -449,11 +486,12 @@ class Equations:
     def solve(self, ev, rhs: np.ndarray, rtol: float) -> np.ndarray:
         """K_ff(ev) x = rhs to the relative residual ``rtol`` (K_ff mapped once per evaluation)."""
         if self._reduced[0] is not ev:
-            self._reduced = (ev, self.red(ev.tangent.data, out=self._reduced_buffer))
+            K = ev.tangent if self.target is not None else self.red(ev.tangent.data, out=self._reduced_buffer)
+            self._reduced = (ev, K)
         approx = None
         if self.pairs is not None and self._state[0] is ev:
             v = self._state[1]
-            approx = lambda: self.pairs(self.dofs.expand(v))     # noqa: E731
+            approx = lambda: ev.pair_tangent if ev.pair_tangent is not None else self.pairs(self.dofs.expand(v))  # noqa: E731
         t0 = time.perf_counter()
         x = self.lin.solve(self._reduced[1], rhs, rtol=rtol, approx=approx)
         self.times["linear_solve"] += time.perf_counter() - t0
@@ -493,7 +531,7 @@ def newton_at_load(eq: Equations, v: np.ndarray, lam1: float, scale: float | Non
         return eq.failure(lam1, res_hist, f"start of step: {e}")
     for it in range(opts.max_iter + 1):
         R = eq.residual(ev, lam1)
-        rn = float(np.linalg.norm(R))
+        rn = vnorm(R)
         if not np.isfinite(rn):
             return eq.failure(lam1, res_hist, "non-finite residual")
         if scale is None or not scale > 0:
@@ -536,7 +574,7 @@ def newton_at_load(eq: Equations, v: np.ndarray, lam1: float, scale: float | Non
                 eq.note(f"  trial step {alpha:g} rejected: {e}")
                 alpha *= 0.5
                 continue
-            rt = np.linalg.norm(eq.residual(et, lam1))
+            rt = vnorm(eq.residual(et, lam1))
             wt = eq.energy(et, trial, lam1)
             # the energy decrease is a valid acceptance test only for a positive definite
             # tangent (a descent direction towards a minimum); with negative pivots the
@@ -599,7 +637,7 @@ def _load_stepping(eq: Equations, opts: NewtonOptions, u: np.ndarray, out: Newto
             # Table 3); the secant predictor below can make the first residual itself
             # round-off small (linear problems), which would make tol unreachable
             try:
-                scale = float(np.linalg.norm(eq.residual(eq.evaluate(v, False), target)))
+                scale = vnorm(eq.residual(eq.evaluate(v, False), target))
             except ValueError:
                 scale = None
             # secant predictor: continue the last converged increment (free DOFs)

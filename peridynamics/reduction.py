@@ -102,6 +102,7 @@ class ReducedMatrix:
     def __init__(self, system, free: np.ndarray):
         pat = system.pattern
         nf = len(free)
+        self.free = np.asarray(free, dtype=np.int64)
         pos = np.full(system.dofs.n, -1, dtype=np.int64)
         pos[free] = np.arange(nf)
         index = np.ascontiguousarray(system.dofs.index, dtype=np.int64)
