@@ -117,6 +117,18 @@ def _add_outer_2d(Kloc, i, d2, g0, g1):
     Kloc[i + 1, i + 1] += d2 * g1 * g1
 
 
+@njit(cache=True, inline='always')
+def _triple_multiplicity(D2ab, r2, qa, qb, p):
+    """How often the triple (p, a, b) counts at central point p: 3 when all three vertices
+    are central points of each other and p is the lowest-numbered (it is evaluated there
+    only), 0 at the other two, 1 otherwise (see :func:`assemble`)."""
+    if D2ab <= r2:
+        if qa < p or qb < p:
+            return 0.0
+        return 3.0
+    return 1.0
+
+
 @njit(cache=True)
 def _triples_2d(Kloc, f_loc, e_loc, xi, Xi, Ln, D2, nodes, vol, Vp, C2, p, r2, energy):
     """psi2 of the 2D triples (p, a, b), a < b local neighbours, with s = xi_a x xi_b: energy
@@ -153,11 +165,9 @@ def _triples_2d(Kloc, f_loc, e_loc, xi, Xi, Ln, D2, nodes, vol, Vp, C2, p, r2, e
             kaa11 = Kloc[ia + 1, ia + 1]
         for b in range(a + 1, n):
             qb = nodes[b + 1]
-            mult = 1.0
-            if D2[a, b] <= r2:          # all three vertices are central points of it
-                if qa < p or qb < p:
-                    continue
-                mult = 3.0
+            mult = _triple_multiplicity(D2[a, b], r2, qa, qb, p)
+            if mult == 0.0:
+                continue
             w = mult * wa * vol[qb]
             tol2 = DEGENERATE_TOL * (La2 + Ln[b] * Ln[b] + D2[a, b])
             A = abs(Xa0 * Xi[b, 1] - Xa1 * Xi[b, 0])
@@ -955,11 +965,9 @@ def _assemble(X, u, centers, nptr, nidx, C1, C2, C3, vol, want_tangent, f, e_nod
                 wa = (2.0 / 3.0) * Vp * vol[qa] * C2[c]
                 for b in range(a + 1, n):
                     qb = nodes[b + 1]
-                    mult = 1.0
-                    if D2[a, b] <= r2:          # all three vertices are central points of it
-                        if qa < p or qb < p:
-                            continue
-                        mult = 3.0
+                    mult = _triple_multiplicity(D2[a, b], r2, qa, qb, p)
+                    if mult == 0.0:
+                        continue
                     w = mult * wa * vol[qb]
                     tol2 = DEGENERATE_TOL * (Ln[a] * Ln[a] + Ln[b] * Ln[b] + D2[a, b])
                     slots[0] = a + 1
