@@ -1,11 +1,18 @@
 """Logistic-regression (LR) contact normal and separation (004 Sec 3.1, Eq 19-25, 53-57).
 
-For each multimaterial node a point cloud is built from the material points in the
-cells around the node (2^D cells; the 4^D block of the uGIMP support if either class has
-fewer than ``LR_MIN_POINTS`` points there: a node just beyond a body's free side sees
-only the one column of particles that crossed the cell line, and a plane fitted to a
-single point per class tilts with that point, so the edge columns interpenetrated by
-up to 0.8 mm at 20 % compression in 004 Fig 5 before this rule).  For material a against the lump of all others, classes are
+For each multimaterial node the point cloud is the material points contributing to
+the node (004 Sec 3.1, Fig 3A): those whose shape function is nonzero there, i.e. whose
+domain (uGIMP: the box x +- R_0; CPDI: the deformed domain x +- F R_0; linear and B2:
+the centre) reaches the cells around the node (:func:`_support_nodes`), so a compressed
+or sheared CPDI particle joins the clouds of every node its domain covers.  Where a
+class has fewer than ``LR_MIN_POINTS`` points there, or the cloud is flat (a node just
+beyond a body's free side sees one column of particles of each body: a plane fitted to
+a line of points tilts with their small sideways offsets; ``LR_FLAT``), the cloud is the
+particles centred in the 4^D cells around the node instead.  (Clouds of the particle
+centres in the 2^D cells around each node, used before, missed the particles whose
+deformed domains reach the node: in 004 Fig 6 at 0.025 mm cells they let the packing
+pass through itself, see docs/mpm.md.)
+For material a against the lump of all others, classes are
 c_p = -1 (a) and +1 (others); the separating plane x . phi = 0 with x = (X, 1)
 minimises sum w_p (f(x_p, phi) - c_p)^2 + sum lambda_j phi_j^2 with the logistic
 f = 2/(1 + exp(-x . phi)) - 1 (004 Eq 20), by the NLLS iteration of Eq 21 with the
@@ -28,11 +35,21 @@ import math
 import numpy as np
 from numba import njit
 
+from .shape import B2, B2CPDI, CPDI, SHAPE_CODES, UGIMP
+
 LR_MAX_ITER = 15
 LR_TOL = 1.0e-5
 LR_PENALTY = 1.0e-7
-#: fewest points of each class in the 2^D-cell cloud before it grows to 4^D cells
+#: fewest points of each class in a node's cloud before it takes the 4^D cells around it
 LR_MIN_POINTS = 2
+#: a cloud whose smallest principal spread (standard deviation) is below this many
+#: cells is flat: it takes the 4^D cells around its node (two columns of particles at
+#: 2 per cell: 0.25 cells; one column: 0)
+LR_FLAT = 0.1
+#: at most this many distinct nodes in one particle's support (2D B2-CPDI: 4 corners x 9)
+SUPPORT_MAX = 64
+#: at most this many particles in the 4^D-cell cloud of one node
+WIDE_MAX = 4096
 
 
 @njit(cache=True)
@@ -150,6 +167,83 @@ def _particle_radius(n, r0, F, p, has_F) -> float:
 
 
 @njit(cache=True)
+def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out) -> int:
+    """The nodes where particle p's shape function is nonzero (written to ``out``; their
+    count): the nodes of the cells holding the corners of its domain (linear and B2: its
+    centre; uGIMP: the box x +- r0; CPDI, B2-CPDI: the domain x +- F r0, ``deform``),
+    with the 3^D nearest nodes of each for the B2 splines in place of the cell's 2^D."""
+    d = x.shape[1]
+    b2 = kind == B2 or kind == B2CPDI
+    width = 3 if b2 else 2
+    corners = 1 << d if (kind == UGIMP or kind == CPDI or kind == B2CPDI) else 1
+    total = width ** d
+    corner = np.empty(d)
+    base = np.empty(d, dtype=np.int64)
+    cnt = 0
+    for c in range(corners):
+        for j in range(d):
+            corner[j] = x[p, j]
+        if corners > 1:
+            for k in range(d):
+                sgn = 1.0 if (c >> k) & 1 else -1.0
+                for j in range(d):
+                    fjk = F[p, j, k] if deform else (1.0 if j == k else 0.0)
+                    corner[j] += sgn * fjk * r0[p, k]
+        for k in range(d):
+            t = (corner[k] - origin[k]) / cell[k]
+            base[k] = int(math.floor(t + 0.5)) - 1 if b2 else int(math.floor(t))
+        for q in range(total):
+            rem = q
+            node = 0
+            stride = 1
+            for k in range(d):
+                ik = base[k] + rem % width
+                rem //= width
+                if ik < 0 or ik >= nn[k]:
+                    node = -1
+                    break
+                node += ik * stride
+                stride *= nn[k]
+            if node < 0:
+                continue
+            seen = False
+            for r in range(cnt):
+                if out[r] == node:
+                    seen = True
+                    break
+            if not seen and cnt < out.shape[0]:
+                out[cnt] = node
+                cnt += 1
+    return cnt
+
+
+@njit(cache=True)
+def _support_clouds(x, r0, F, deform, kind, origin, cell, nn, nodes, n_nodes):
+    """Point clouds of ``nodes`` (004 Sec 3.1): the particles contributing to each, as
+    CSR lists ``members[start[j]:start[j + 1]]`` for ``nodes[j]``."""
+    slot = np.full(n_nodes, -1, dtype=np.int64)
+    for j in range(nodes.shape[0]):
+        slot[nodes[j]] = j
+    buf = np.empty(SUPPORT_MAX, dtype=np.int64)
+    start = np.zeros(nodes.shape[0] + 1, dtype=np.int64)
+    for p in range(x.shape[0]):
+        for r in range(_support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, buf)):
+            if slot[buf[r]] >= 0:
+                start[slot[buf[r]] + 1] += 1
+    for j in range(nodes.shape[0]):
+        start[j + 1] += start[j]
+    fill = start[:-1].copy()
+    members = np.empty(start[-1], dtype=np.int64)
+    for p in range(x.shape[0]):
+        for r in range(_support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, buf)):
+            j = slot[buf[r]]
+            if j >= 0:
+                members[fill[j]] = p
+                fill[j] += 1
+    return start, members
+
+
+@njit(cache=True)
 def _bin_particles(x, origin, cell, nn):
     """Counting sort of particles by cell; returns (order, start[ncell + 1])."""
     P, d = x.shape
@@ -231,34 +325,66 @@ def _in_class_b(f, a, b, mass, i, tol, mtot) -> bool:
 
 
 @njit(cache=True)
-def _cloud_plane(i, a, b, xi, x, field, r0, F, has_F, mass, mtot, tol, order, start, origin, cell, nn,
-                 idx, xs, cls, nvec) -> float:
-    """LR plane at node i between material ``a`` (class -1) and ``b`` (class +1; ``b`` < 0:
-    the lump of all other present materials) from the point cloud of the 2^D cells
-    around the node (4^D if a class has fewer than LR_MIN_POINTS points there): writes the unit normal a -> b to
-    ``nvec`` and returns d_LR (Eq 24), or NaN when there is no two-class cloud or the
-    regression is singular."""
-    d = x.shape[1]
-    cnt = 0
+def _class_counts(cloud, field, a, b, mass, i, tol, mtot):
+    """Points of class -1 (material a) and +1 (b, or the lump of the others) in ``cloud``."""
     na = 0
     nb = 0
-    for ring in (1, 2):
-        cnt = _gather_cloud(i, ring, x, field, order, start, origin, cell, nn, idx)
-        na = 0
-        nb = 0
-        for q in range(cnt):
-            f = field[idx[q]]
-            if f == a:
-                na += 1
-            elif _in_class_b(f, a, b, mass, i, tol, mtot):
-                nb += 1
-        if na >= LR_MIN_POINTS and nb >= LR_MIN_POINTS:
-            break
+    for q in range(cloud.shape[0]):
+        f = field[cloud[q]]
+        if f == a:
+            na += 1
+        elif _in_class_b(f, a, b, mass, i, tol, mtot):
+            nb += 1
+    return na, nb
+
+
+@njit(cache=True)
+def _flat_cloud(cloud, x, field, a, b, mass, i, tol, mtot, dx) -> bool:
+    """Does the two-class cloud lie (nearly) in a line (2D) or plane (3D)?  Its smallest
+    principal spread below LR_FLAT cells: a plane fitted to it is ill-posed, its normal
+    swinging with the points' small sideways offsets (a node beyond a body's free side
+    sees one column of particles of each body there)."""
+    d = x.shape[1]
+    mean = np.zeros(d)
+    cov = np.zeros((d, d))
+    n = 0
+    for q in range(cloud.shape[0]):
+        p = cloud[q]
+        if field[p] == a or _in_class_b(field[p], a, b, mass, i, tol, mtot):
+            n += 1
+            for k in range(d):
+                mean[k] += x[p, k]
+    for k in range(d):
+        mean[k] /= n
+    for q in range(cloud.shape[0]):
+        p = cloud[q]
+        if field[p] == a or _in_class_b(field[p], a, b, mass, i, tol, mtot):
+            for j in range(d):
+                for k in range(d):
+                    cov[j, k] += (x[p, j] - mean[j]) * (x[p, k] - mean[k]) / (n * dx * dx)
+    return np.linalg.eigvalsh(cov)[0] < LR_FLAT * LR_FLAT
+
+
+@njit(cache=True)
+def _cloud_plane(i, a, b, xi, cloud, wide, x, field, r0, F, has_F, mass, mtot, tol, order,
+                 start, origin, cell, nn, idx, xs, cls, nvec) -> float:
+    """LR plane at node i between material ``a`` (class -1) and ``b`` (class +1; ``b`` < 0:
+    the lump of all other present materials) from the node's point cloud ``cloud``
+    (the particles of the 4^D cells around the node, gathered into ``wide``, where a
+    class has fewer than LR_MIN_POINTS points there): writes the unit normal a -> b to
+    ``nvec`` and returns d_LR (Eq 24), or NaN when there is no two-class cloud or the
+    regression is singular. Coordinates are taken relative to the node ``xi`` in cells."""
+    d = x.shape[1]
+    na, nb = _class_counts(cloud, field, a, b, mass, i, tol, mtot)
+    if na < LR_MIN_POINTS or nb < LR_MIN_POINTS or _flat_cloud(cloud, x, field, a, b, mass, i,
+                                                                 tol, mtot, cell[0]):
+        cloud = wide[:_gather_cloud(i, 2, x, field, order, start, origin, cell, nn, wide)]
+        na, nb = _class_counts(cloud, field, a, b, mass, i, tol, mtot)
     if na == 0 or nb == 0:
         return np.nan
     npts = 0
-    for q in range(cnt):
-        p = idx[q]
+    for q in range(cloud.shape[0]):
+        p = cloud[q]
         f = field[p]
         if f != a and not _in_class_b(f, a, b, mass, i, tol, mtot):
             continue          # material absent from this node or not of the pair
@@ -291,12 +417,14 @@ def pair_index(a, b, m) -> int:
 
 
 @njit(cache=True)
-def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal, separation,
-              pair_normal, pair_separation) -> int:
+def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, normal,
+              separation, pair_normal, pair_separation) -> int:
     """LR normal and separation for every node in ``nodes`` and every present field
     (against the lump of the others); with ``pair_normal`` rows (option three_material =
     explicit), also for every pair a < b of the materials present at nodes seen by 3+
-    materials (normal a -> b in ``pair_normal[i, pair_index(a, b, m)]``)."""
+    materials (normal a -> b in ``pair_normal[i, pair_index(a, b, m)]``). ``kind`` is the
+    run's shape function (mpm.shape codes): it sets each node's point cloud; ``has_F``:
+    ``F`` deforms the radii R_p of Eq 25 (and the CPDI domains)."""
     n_nodes, m = mass.shape
     d = x.shape[1]
     normal[:, :, :] = 0.0
@@ -305,8 +433,13 @@ def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal
     if pairs:
         pair_normal[:, :, :] = 0.0
         pair_separation[:, :] = np.nan
+    sstart, members = _support_clouds(x, r0, F, has_F and (kind == CPDI or kind == B2CPDI), kind,
+                                       origin, cell, nn, nodes, n_nodes)
     order, start = _bin_particles(x, origin, cell, nn)
-    cap = 4096
+    wide = np.empty(WIDE_MAX, dtype=np.int64)
+    cap = WIDE_MAX
+    for j in range(nodes.shape[0]):
+        cap = max(cap, sstart[j + 1] - sstart[j])
     idx = np.empty(cap, dtype=np.int64)
     xs = np.empty((cap, d))
     cls = np.empty(cap)
@@ -330,11 +463,12 @@ def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal
         for k in range(d):
             xi[k] = origin[k] + (rem % nn[k]) * cell[k]
             rem //= nn[k]
+        cloud = members[sstart[ii]:sstart[ii + 1]]
         n_solve = 1 if npres == 2 else npres
         for jj in range(n_solve):
             a = present[jj]
-            dlr = _cloud_plane(i, a, -1, xi, x, field, r0, F, has_F, mass, mtot, tol, order, start,
-                               origin, cell, nn, idx, xs, cls, nvec)
+            dlr = _cloud_plane(i, a, -1, xi, cloud, wide, x, field, r0, F, has_F, mass, mtot, tol,
+                               order, start, origin, cell, nn, idx, xs, cls, nvec)
             if math.isnan(dlr):
                 continue
             for k in range(d):
@@ -352,8 +486,8 @@ def lr_kernel(x, field, r0, F, has_F, origin, cell, nn, mass, nodes, tol, normal
             for jb in range(ja + 1, npres):
                 a = present[ja]
                 b = present[jb]
-                dlr = _cloud_plane(i, a, b, xi, x, field, r0, F, has_F, mass, mtot, tol, order,
-                                   start, origin, cell, nn, idx, xs, cls, nvec)
+                dlr = _cloud_plane(i, a, b, xi, cloud, wide, x, field, r0, F, has_F, mass, mtot,
+                                   tol, order, start, origin, cell, nn, idx, xs, cls, nvec)
                 if math.isnan(dlr):
                     continue
                 slot = pair_index(a, b, m)
@@ -368,14 +502,16 @@ def lr_normals_separations(x: np.ndarray, field: np.ndarray, half_width: np.ndar
                            origin: np.ndarray, cell: np.ndarray, nn: np.ndarray,
                            mass: np.ndarray, nodes: np.ndarray | None = None,
                            F: np.ndarray | None = None, mass_tolerance: float = 0.0,
-                           out: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
+                           out: tuple | None = None, shape: str = "ugimp"
+                           ) -> tuple[np.ndarray, np.ndarray]:
     """LR contact normals and separations for one step (004 Eq 19-25, 53-57).
 
     ``x[P, D]`` particle positions, ``field[P]`` body index, ``half_width`` the
     undeformed particle radii R_0 ((D,) or (P, D); half the particle spacing),
     ``F[P, D, D]`` optional deformation gradients for Eq 25, grid ``origin``/``cell``/
     ``nn`` as in mpm/LAYOUT.md, ``mass[N, M]`` nodal field masses, ``nodes`` the
-    multimaterial nodes (default: all).  Returns ``(normal[N, M, D], separation[N, M])``
+    multimaterial nodes (default: all), ``shape`` the run's shape functions (they set
+    which particles contribute to a node: its point cloud).  Returns ``(normal[N, M, D], separation[N, M])``
     to pass as ``lr=`` to :func:`mpm.multimaterial.correct_momentum` and
     :func:`mpm.multimaterial.add_interface_forces` (reuse ``out`` to avoid allocation).
     """
@@ -388,13 +524,16 @@ def lr_normals_separations(x: np.ndarray, field: np.ndarray, half_width: np.ndar
     r0 = np.ascontiguousarray(r0)
     if np.any(r0 <= 0.0):
         raise ValueError("lr_normals_separations: half_width must be > 0")
+    if shape not in SHAPE_CODES:
+        raise ValueError(f"lr_normals_separations: shape must be one of {sorted(SHAPE_CODES)}, "
+                         f"got {shape!r}")
     has_F = F is not None
     F_arr = np.ascontiguousarray(F, dtype=np.float64) if has_F else np.zeros((1, d, d))
     if nodes is None:
         nodes = np.arange(n_nodes, dtype=np.int64)
     if out is None:
         out = (np.zeros((n_nodes, m, d)), np.zeros((n_nodes, m)))
-    lr_kernel(x, np.ascontiguousarray(field, dtype=np.int64), r0, F_arr, has_F,
+    lr_kernel(x, np.ascontiguousarray(field, dtype=np.int64), r0, F_arr, has_F, SHAPE_CODES[shape],
               np.asarray(origin, dtype=np.float64), np.asarray(cell, dtype=np.float64),
               np.asarray(nn, dtype=np.int64), mass, np.ascontiguousarray(nodes, dtype=np.int64),
               float(mass_tolerance), out[0], out[1], np.zeros((0, 0, d)), np.zeros((0, 0)))
