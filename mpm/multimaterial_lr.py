@@ -1,17 +1,18 @@
 """Logistic-regression (LR) contact normal and separation (004 Sec 3.1, Eq 19-25, 53-57).
 
-For each multimaterial node the point cloud is the material points contributing to
-the node (004 Sec 3.1, Fig 3A): those whose shape function is nonzero there, i.e. whose
-domain (uGIMP: the box x +- R_0; CPDI: the deformed domain x +- F R_0; linear and B2:
-the centre) reaches the cells around the node (:func:`_support_nodes`), so a compressed
-or sheared CPDI particle joins the clouds of every node its domain covers.  Where a
-class has fewer than ``LR_MIN_POINTS`` points there, or the cloud is flat (a node just
-beyond a body's free side sees one column of particles of each body: a plane fitted to
-a line of points tilts with their small sideways offsets; ``LR_FLAT``), the cloud is the
-particles centred in the 4^D cells around the node instead.  (Clouds of the particle
-centres in the 2^D cells around each node, used before, missed the particles whose
-deformed domains reach the node: in 004 Fig 6 at 0.025 mm cells they let the packing
-pass through itself, see docs/mpm.md.)
+For each multimaterial node of a CPDI or B2-CPDI run the point cloud is the material
+points contributing to the node (004 Sec 3.1, Fig 3A): those whose shape function is
+nonzero there, i.e. whose deformed domain x +- F R_0 has a corner in the cells around
+the node (:func:`_support_nodes`), so a compressed or sheared particle joins the cloud
+of every node it reaches.  Where a class has fewer than ``LR_MIN_POINTS`` points there,
+or the cloud is flat (a node just beyond a body's free side sees one column of particles
+of each body: a plane fitted to a line of points tilts with their small sideways
+offsets; ``LR_FLAT``), the cloud is the particles centred in the 4^D cells around the
+node instead.  uGIMP, linear and B2 runs take the particles centred in the 2^D cells
+around the node (4^D where a class has fewer than ``LR_MIN_POINTS`` points): their
+particles keep their shape, and there the support clouds made LR contact 5-8 % early in
+004 Fig 2.  With the 2^D-cell clouds in CPDI runs LR let the 004 Fig 6 packing pass
+through itself, the more the finer the grid (docs/mpm.md).
 For material a against the lump of all others, classes are
 c_p = -1 (a) and +1 (others); the separating plane x . phi = 0 with x = (X, 1)
 minimises sum w_p (f(x_p, phi) - c_p)^2 + sum lambda_j phi_j^2 with the logistic
@@ -179,6 +180,7 @@ def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out) -> int:
     total = width ** d
     corner = np.empty(d)
     base = np.empty(d, dtype=np.int64)
+    on_line = np.zeros(d, dtype=np.bool_)
     cnt = 0
     for c in range(corners):
         for j in range(d):
@@ -192,6 +194,7 @@ def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out) -> int:
         for k in range(d):
             t = (corner[k] - origin[k]) / cell[k]
             base[k] = int(math.floor(t + 0.5)) - 1 if b2 else int(math.floor(t))
+            on_line[k] = not b2 and t == base[k]      # the far node's hat weight is 0
         for q in range(total):
             rem = q
             node = 0
@@ -199,7 +202,7 @@ def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out) -> int:
             for k in range(d):
                 ik = base[k] + rem % width
                 rem //= width
-                if ik < 0 or ik >= nn[k]:
+                if ik < 0 or ik >= nn[k] or (on_line[k] and ik > base[k]):
                     node = -1
                     break
                 node += ik * stride
@@ -366,18 +369,19 @@ def _flat_cloud(cloud, x, field, a, b, mass, i, tol, mtot, dx) -> bool:
 
 
 @njit(cache=True)
-def _cloud_plane(i, a, b, xi, cloud, wide, x, field, r0, F, has_F, mass, mtot, tol, order,
-                 start, origin, cell, nn, idx, xs, cls, nvec) -> float:
+def _cloud_plane(i, a, b, xi, cloud, check_flat, wide, x, field, r0, F, has_F, mass, mtot, tol,
+                 order, start, origin, cell, nn, idx, xs, cls, nvec) -> float:
     """LR plane at node i between material ``a`` (class -1) and ``b`` (class +1; ``b`` < 0:
     the lump of all other present materials) from the node's point cloud ``cloud``
     (the particles of the 4^D cells around the node, gathered into ``wide``, where a
-    class has fewer than LR_MIN_POINTS points there): writes the unit normal a -> b to
+    class has fewer than LR_MIN_POINTS points there or, ``check_flat``, the cloud is
+    flat): writes the unit normal a -> b to
     ``nvec`` and returns d_LR (Eq 24), or NaN when there is no two-class cloud or the
     regression is singular. Coordinates are taken relative to the node ``xi`` in cells."""
     d = x.shape[1]
     na, nb = _class_counts(cloud, field, a, b, mass, i, tol, mtot)
-    if na < LR_MIN_POINTS or nb < LR_MIN_POINTS or _flat_cloud(cloud, x, field, a, b, mass, i,
-                                                                 tol, mtot, cell[0]):
+    if na < LR_MIN_POINTS or nb < LR_MIN_POINTS or (
+            check_flat and _flat_cloud(cloud, x, field, a, b, mass, i, tol, mtot, cell[0])):
         cloud = wide[:_gather_cloud(i, 2, x, field, order, start, origin, cell, nn, wide)]
         na, nb = _class_counts(cloud, field, a, b, mass, i, tol, mtot)
     if na == 0 or nb == 0:
@@ -423,8 +427,8 @@ def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, 
     (against the lump of the others); with ``pair_normal`` rows (option three_material =
     explicit), also for every pair a < b of the materials present at nodes seen by 3+
     materials (normal a -> b in ``pair_normal[i, pair_index(a, b, m)]``). ``kind`` is the
-    run's shape function (mpm.shape codes): it sets each node's point cloud; ``has_F``:
-    ``F`` deforms the radii R_p of Eq 25 (and the CPDI domains)."""
+    run's shape function (mpm.shape codes): it sets each node's point cloud (module
+    docstring); ``has_F``: ``F`` deforms the radii R_p of Eq 25 and the CPDI domains."""
     n_nodes, m = mass.shape
     d = x.shape[1]
     normal[:, :, :] = 0.0
@@ -433,9 +437,14 @@ def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, 
     if pairs:
         pair_normal[:, :, :] = 0.0
         pair_separation[:, :] = np.nan
-    sstart, members = _support_clouds(x, r0, F, has_F and (kind == CPDI or kind == B2CPDI), kind,
-                                       origin, cell, nn, nodes, n_nodes)
+    support = kind == CPDI or kind == B2CPDI
+    if support:
+        sstart, members = _support_clouds(x, r0, F, has_F, kind, origin, cell, nn, nodes,
+                                           n_nodes)
+    else:
+        sstart, members = np.zeros(nodes.shape[0] + 1, dtype=np.int64), np.empty(0, np.int64)
     order, start = _bin_particles(x, origin, cell, nn)
+    near = np.empty(WIDE_MAX, dtype=np.int64)
     wide = np.empty(WIDE_MAX, dtype=np.int64)
     cap = WIDE_MAX
     for j in range(nodes.shape[0]):
@@ -463,12 +472,15 @@ def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, 
         for k in range(d):
             xi[k] = origin[k] + (rem % nn[k]) * cell[k]
             rem //= nn[k]
-        cloud = members[sstart[ii]:sstart[ii + 1]]
+        if support:
+            cloud = members[sstart[ii]:sstart[ii + 1]]
+        else:
+            cloud = near[:_gather_cloud(i, 1, x, field, order, start, origin, cell, nn, near)]
         n_solve = 1 if npres == 2 else npres
         for jj in range(n_solve):
             a = present[jj]
-            dlr = _cloud_plane(i, a, -1, xi, cloud, wide, x, field, r0, F, has_F, mass, mtot, tol,
-                               order, start, origin, cell, nn, idx, xs, cls, nvec)
+            dlr = _cloud_plane(i, a, -1, xi, cloud, support, wide, x, field, r0, F, has_F, mass,
+                               mtot, tol, order, start, origin, cell, nn, idx, xs, cls, nvec)
             if math.isnan(dlr):
                 continue
             for k in range(d):
@@ -486,8 +498,9 @@ def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, 
             for jb in range(ja + 1, npres):
                 a = present[ja]
                 b = present[jb]
-                dlr = _cloud_plane(i, a, b, xi, cloud, wide, x, field, r0, F, has_F, mass, mtot,
-                                   tol, order, start, origin, cell, nn, idx, xs, cls, nvec)
+                dlr = _cloud_plane(i, a, b, xi, cloud, support, wide, x, field, r0, F, has_F,
+                                   mass, mtot, tol, order, start, origin, cell, nn, idx, xs,
+                                   cls, nvec)
                 if math.isnan(dlr):
                     continue
                 slot = pair_index(a, b, m)

@@ -6,10 +6,7 @@ SMM to round-off up to 12.5 % strain, then -0.30 % at worst (13.4 %) and -0.18 %
 (004: within +-1 %); DF and velocity-only -8.1 % worst, -6.0 % at 20 %; CP = 0.92 -9.8 /
 -7.7 %; CP = 0.80 -11.7 / -8.5 %. LR held only to 17.6 % (-2.5 % at 20 %) while its
 point clouds stayed in the 2^D cells at a node with a single particle of one class there
-(nodes beyond the blocks' free sides): mpm/multimaterial_lr.py LR_MIN_POINTS. With the
-clouds of the particles contributing to each node, LR left SMM at once (0.34 % by 12 %
-strain) until a flat cloud (one column of particles per block beyond the free sides)
-took the 4^D cells: LR_FLAT.
+(nodes beyond the blocks' free sides): mpm/multimaterial_lr.py LR_MIN_POINTS.
 """
 import numpy as np
 
