@@ -524,8 +524,8 @@ def lr_normals_separations(x: np.ndarray, field: np.ndarray, half_width: np.ndar
     ``F[P, D, D]`` optional deformation gradients for Eq 25, grid ``origin``/``cell``/
     ``nn`` as in mpm/LAYOUT.md, ``mass[N, M]`` nodal field masses, ``nodes`` the
     multimaterial nodes (default: all), ``shape`` the run's shape functions (they set
-    which particles contribute to a node: its point cloud).  Returns ``(normal[N, M, D], separation[N, M])``
-    to pass as ``lr=`` to :func:`mpm.multimaterial.correct_momentum` and
+    each node's point cloud: module docstring).  Returns ``(normal[N, M, D],
+    separation[N, M])`` to pass as ``lr=`` to :func:`mpm.multimaterial.correct_momentum` and
     :func:`mpm.multimaterial.add_interface_forces` (reuse ``out`` to avoid allocation).
     """
     x = np.ascontiguousarray(x, dtype=np.float64)
@@ -546,8 +546,8 @@ def lr_normals_separations(x: np.ndarray, field: np.ndarray, half_width: np.ndar
         nodes = np.arange(n_nodes, dtype=np.int64)
     if out is None:
         out = (np.zeros((n_nodes, m, d)), np.zeros((n_nodes, m)))
-    lr_kernel(x, np.ascontiguousarray(field, dtype=np.int64), r0, F_arr, has_F, SHAPE_CODES[shape],
-              np.asarray(origin, dtype=np.float64), np.asarray(cell, dtype=np.float64),
-              np.asarray(nn, dtype=np.int64), mass, np.ascontiguousarray(nodes, dtype=np.int64),
+    lr_kernel(x, np.ascontiguousarray(field, dtype=np.int64), r0, F_arr, has_F,
+              SHAPE_CODES[shape], np.asarray(origin, dtype=np.float64),
+              np.asarray(cell, dtype=np.float64), np.asarray(nn, dtype=np.int64), mass, np.ascontiguousarray(nodes, dtype=np.int64),
               float(mass_tolerance), out[0], out[1], np.zeros((0, 0, d)), np.zeros((0, 0)))
     return out

@@ -114,11 +114,11 @@ def phase_multimaterial_nodes(ctl, pt, grid, nd, pairs):
 
 @njit(cache=True, inline="always")
 def phase_lr(ctl, pt, grid, nd, pairs, nodes) -> None:
-    """LR normals and separations of the point clouds of ``nodes`` (004 Eq 19-25; a
-    node's cloud: the particles its shape functions ``grid.kind`` reach): the particle
-    radii R_p of Eq 25 from the undeformed half widths ``pt.half_width``, deformed by F
-    in finite-strain runs (linear fields keep F = I) and in CPDI runs (every particle
-    carries F)."""
+    """LR normals and separations of the point clouds of ``nodes`` (004 Eq 19-25; the
+    clouds depend on the shape functions ``grid.kind``, mpm/multimaterial_lr.py): the
+    particle radii R_p of Eq 25 from the undeformed half widths ``pt.half_width``,
+    deformed by F in finite-strain runs (linear fields keep F = I) and in CPDI runs
+    (every particle carries F)."""
     if ctl.uses_lr and nodes.size:
         lr_kernel(pt.x, pt.field, pt.half_width, pt.F, ctl.finite_strain or is_cpdi(grid.kind),
                   grid.kind, grid.origin, grid.cell, grid.nn, nd.mass, nodes,
