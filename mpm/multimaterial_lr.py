@@ -36,7 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .shape import B2, B2CPDI, CPDI, SHAPE_CODES, UGIMP
+from .shape import B2CPDI, CPDI, SHAPE_CODES
 
 LR_MAX_ITER = 15
 LR_TOL = 1.0e-5
@@ -169,32 +169,30 @@ def _particle_radius(n, r0, F, p, has_F) -> float:
 
 @njit(cache=True)
 def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out) -> int:
-    """The nodes where particle p's shape function is nonzero (written to ``out``; their
-    count): the nodes of the cells holding the corners of its domain (linear and B2: its
-    centre; uGIMP: the box x +- r0; CPDI, B2-CPDI: the domain x +- F r0, ``deform``),
-    with the 3^D nearest nodes of each for the B2 splines in place of the cell's 2^D."""
+    """The nodes where the CPDI (``kind`` CPDI) or B2-CPDI shape function of particle p
+    is nonzero (written to ``out``; their count): the 2^D nodes of the cell holding each
+    corner of its domain x +- F r0 (``deform``; else x +- r0), the 3^D nearest nodes of
+    each corner for B2-CPDI. A corner on a node line leaves out the node beyond it (its
+    hat weight is 0)."""
     d = x.shape[1]
-    b2 = kind == B2 or kind == B2CPDI
+    b2 = kind == B2CPDI
     width = 3 if b2 else 2
-    corners = 1 << d if (kind == UGIMP or kind == CPDI or kind == B2CPDI) else 1
     total = width ** d
     corner = np.empty(d)
     base = np.empty(d, dtype=np.int64)
     on_line = np.zeros(d, dtype=np.bool_)
     cnt = 0
-    for c in range(corners):
+    for c in range(1 << d):
         for j in range(d):
             corner[j] = x[p, j]
-        if corners > 1:
             for k in range(d):
                 sgn = 1.0 if (c >> k) & 1 else -1.0
-                for j in range(d):
-                    fjk = F[p, j, k] if deform else (1.0 if j == k else 0.0)
-                    corner[j] += sgn * fjk * r0[p, k]
+                fjk = F[p, j, k] if deform else (1.0 if j == k else 0.0)
+                corner[j] += sgn * fjk * r0[p, k]
         for k in range(d):
             t = (corner[k] - origin[k]) / cell[k]
             base[k] = int(math.floor(t + 0.5)) - 1 if b2 else int(math.floor(t))
-            on_line[k] = not b2 and t == base[k]      # the far node's hat weight is 0
+            on_line[k] = not b2 and t == base[k]
         for q in range(total):
             rem = q
             node = 0

@@ -166,15 +166,15 @@ def test_lr_in_3d_finds_the_plane_and_gap():
     np.testing.assert_allclose(sep[nodes, 0], gap, atol=1e-10)
 
 
-@pytest.mark.parametrize("shape", ["linear", "ugimp", "b2", "cpdi", "b2cpdi"])
+@pytest.mark.parametrize("shape", ["cpdi", "b2cpdi"])
 def test_point_cloud_is_the_particles_whose_shape_functions_reach_the_node(shape):
-    """004 Sec 3.1: a node's cloud holds the particles contributing to it. The support of
-    each particle (mpm.multimaterial_lr._support_nodes) holds every node where the
-    run's shape function (mpm.shape, mpm.cpdi) is nonzero and none outside its stencil,
-    for undeformed and sheared/stretched CPDI domains."""
+    """004 Sec 3.1: in CPDI runs a node's cloud holds the particles contributing to it.
+    The support of each particle (mpm.multimaterial_lr._support_nodes) holds every node
+    where its CPDI shape function (mpm.cpdi) is nonzero and none outside its stencil, for
+    undeformed and sheared/stretched domains."""
     from mpm.cpdi import shape_cpdi
     from mpm.multimaterial_lr import _support_nodes
-    from mpm.shape import SHAPE_CODES, shape_2d
+    from mpm.shape import SHAPE_CODES
     kind = SHAPE_CODES[shape]
     rng = np.random.default_rng(3)
     origin, cell, nn = np.zeros(2), np.array([1.0, 1.0]), np.array([12, 12])
@@ -186,15 +186,12 @@ def test_point_cloud_is_the_particles_whose_shape_functions_reach_the_node(shape
     idx, S, G = np.empty(64, np.int64), np.empty(64), np.empty((64, 2))
     out = np.empty(64, np.int64)
     for p in range(P):
-        if shape in ("cpdi", "b2cpdi"):
-            n = shape_cpdi(p, x, F, r0, origin, cell, nn, kind, idx, S, G)
-        else:
-            n = shape_2d(x[p, 0], x[p, 1], origin, cell, nn, r0[p], kind, idx, S, G)
+        n = shape_cpdi(p, x, F, r0, origin, cell, nn, kind, idx, S, G)
         assert n > 0
         weight = {}
         for k in range(n):
             weight[idx[k]] = weight.get(idx[k], 0.0) + S[k]
-        m = _support_nodes(p, x, r0, F, shape in ("cpdi", "b2cpdi"), kind, origin, cell, nn, out)
+        m = _support_nodes(p, x, r0, F, True, kind, origin, cell, nn, out)
         support = set(out[:m].tolist())
         assert {i for i, w in weight.items() if w > 1e-14} <= support
         assert support <= set(weight)
