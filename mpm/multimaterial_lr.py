@@ -54,11 +54,10 @@ WIDE_MAX = 4096
 
 
 @njit(cache=True)
-def _solve_small(A, b, x) -> bool:
-    """Gaussian elimination with partial pivoting for a (D+1) x (D+1) system."""
-    n = b.shape[0]
-    M = A.copy()
-    r = b.copy()
+def _solve_small(M, r, x) -> bool:
+    """Gaussian elimination with partial pivoting for a (D+1) x (D+1) system M x = r
+    (``M`` and ``r`` are overwritten: callers assemble them afresh)."""
+    n = r.shape[0]
     for c in range(n):
         piv = c
         for i in range(c + 1, n):
@@ -148,51 +147,71 @@ def logistic_plane(xs, cls, n_pts, penalty, normal) -> int:
 
 @njit(cache=True)
 def _particle_radius(n, r0, F, p, has_F) -> float:
-    """R_p of 004 Eq 25: distance along n to the particle's inscribed deformed ellipse."""
+    """R_p of 004 Eq 25: distance along n to the particle's inscribed deformed ellipse
+    (n0 = F^-1 n by cofactors, 2D and 3D)."""
     d = n.shape[0]
-    n0 = np.empty(d)
-    if has_F:
-        Fi = np.linalg.inv(F[p])
+    if not has_F:
+        s = 0.0
         for j in range(d):
-            s = 0.0
-            for k in range(d):
-                s += Fi[j, k] * n[k]
-            n0[j] = s
-    else:
-        for j in range(d):
-            n0[j] = n[j]
+            s += n[j] * n[j] / (r0[p, j] * r0[p, j])
+        return 1.0 / math.sqrt(s)
+    f = F[p]
+    if d == 2:
+        det = f[0, 0] * f[1, 1] - f[0, 1] * f[1, 0]
+        n00 = (f[1, 1] * n[0] - f[0, 1] * n[1]) / det
+        n01 = (f[0, 0] * n[1] - f[1, 0] * n[0]) / det
+        return 1.0 / math.sqrt(n00 * n00 / (r0[p, 0] * r0[p, 0]) + n01 * n01 / (r0[p, 1] * r0[p, 1]))
     s = 0.0
-    for j in range(d):
-        s += n0[j] * n0[j] / (r0[p, j] * r0[p, j])
+    det = (f[0, 0] * (f[1, 1] * f[2, 2] - f[1, 2] * f[2, 1])
+           - f[0, 1] * (f[1, 0] * f[2, 2] - f[1, 2] * f[2, 0])
+           + f[0, 2] * (f[1, 0] * f[2, 1] - f[1, 1] * f[2, 0]))
+    for j in range(3):
+        j1 = (j + 1) % 3
+        j2 = (j + 2) % 3
+        # row j of F^-1 = (column j1 x column j2 of F) / det
+        c0 = f[1, j1] * f[2, j2] - f[2, j1] * f[1, j2]
+        c1 = f[2, j1] * f[0, j2] - f[0, j1] * f[2, j2]
+        c2 = f[0, j1] * f[1, j2] - f[1, j1] * f[0, j2]
+        n0j = (c0 * n[0] + c1 * n[1] + c2 * n[2]) / det
+        s += n0j * n0j / (r0[p, j] * r0[p, j])
     return 1.0 / math.sqrt(s)
 
 
+@njit(cache=True, inline="always")
+def _corner_base(p, c, x, r0, F, deform, b2, origin, cell, corner, base, on_line) -> None:
+    """Corner ``c`` (bit k: + or - along domain vector k) of particle p's domain
+    x +- F r0 (``deform``; else x +- r0) into ``corner``, and the first node of its
+    stencil per axis into ``base``: the cell's lower node (linear), or the lower of the
+    3 nearest nodes (``b2``).  ``on_line[k]``: the corner lies on node line base[k]
+    (linear only; the node beyond has hat weight 0)."""
+    d = x.shape[1]
+    for j in range(d):
+        corner[j] = x[p, j]
+        for k in range(d):
+            sgn = 1.0 if (c >> k) & 1 else -1.0
+            fjk = F[p, j, k] if deform else (1.0 if j == k else 0.0)
+            corner[j] += sgn * fjk * r0[p, k]
+    for k in range(d):
+        t = (corner[k] - origin[k]) / cell[k]
+        base[k] = int(math.floor(t + 0.5)) - 1 if b2 else int(math.floor(t))
+        on_line[k] = not b2 and t == base[k]
+
+
 @njit(cache=True)
-def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out) -> int:
+def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out, corner, base,
+                   on_line) -> int:
     """The nodes where the CPDI (``kind`` CPDI) or B2-CPDI shape function of particle p
     is nonzero (written to ``out``; their count): the 2^D nodes of the cell holding each
     corner of its domain x +- F r0 (``deform``; else x +- r0), the 3^D nearest nodes of
     each corner for B2-CPDI. A corner on a node line leaves out the node beyond it (its
-    hat weight is 0)."""
+    hat weight is 0). ``corner``, ``base``, ``on_line``: work arrays of length D."""
     d = x.shape[1]
     b2 = kind == B2CPDI
     width = 3 if b2 else 2
     total = width ** d
-    corner = np.empty(d)
-    base = np.empty(d, dtype=np.int64)
-    on_line = np.zeros(d, dtype=np.bool_)
     cnt = 0
     for c in range(1 << d):
-        for j in range(d):
-            corner[j] = x[p, j]
-            for k in range(d):
-                sgn = 1.0 if (c >> k) & 1 else -1.0
-                fjk = F[p, j, k] if deform else (1.0 if j == k else 0.0)
-                corner[j] += sgn * fjk * r0[p, k]
-        for k in range(d):
-            t = (corner[k] - origin[k]) / cell[k]
-            base[k] = int(math.floor(t + 0.5)) - 1 if b2 else int(math.floor(t))
-            on_line[k] = not b2 and t == base[k]
+        _corner_base(p, c, x, r0, F, deform, b2, origin, cell, corner, base, on_line)
         for q in range(total):
             rem = q
             node = 0
@@ -219,28 +238,94 @@ def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out) -> int:
 
 
 @njit(cache=True)
+def _reaching_bases(nodes, width, nn):
+    """Flags over stencil bases (indexed like nodes): True where a stencil of ``width``
+    nodes per axis starting there holds one of ``nodes``."""
+    d = nn.shape[0]
+    flag = np.zeros(np.prod(nn), dtype=np.bool_)
+    idx = np.empty(d, dtype=np.int64)
+    for j in range(nodes.shape[0]):
+        rem = nodes[j]
+        for k in range(d):
+            idx[k] = rem % nn[k]
+            rem //= nn[k]
+        for q in range(width ** d):
+            rem = q
+            b = 0
+            stride = 1
+            for k in range(d):
+                ik = idx[k] - rem % width
+                rem //= width
+                if ik < 0:
+                    b = -1
+                    break
+                b += ik * stride
+                stride *= nn[k]
+            if b >= 0:
+                flag[b] = True
+    return flag
+
+
+@njit(cache=True)
+def _reaches(p, x, r0, F, deform, b2, origin, cell, nn, flag, corner, base, on_line) -> bool:
+    """Whether some corner of particle p's domain has a stencil base flagged by
+    :func:`_reaching_bases` (a cheap superset test before :func:`_support_nodes`)."""
+    d = x.shape[1]
+    for c in range(1 << d):
+        _corner_base(p, c, x, r0, F, deform, b2, origin, cell, corner, base, on_line)
+        b = 0
+        stride = 1
+        for k in range(d):
+            bk = min(max(base[k], 0), nn[k] - 1)
+            b += bk * stride
+            stride *= nn[k]
+        if flag[b]:
+            return True
+    return False
+
+
+@njit(cache=True)
 def _support_clouds(x, r0, F, deform, kind, origin, cell, nn, nodes, n_nodes):
     """Point clouds of ``nodes`` (004 Sec 3.1): the particles contributing to each, as
-    CSR lists ``members[start[j]:start[j + 1]]`` for ``nodes[j]``."""
+    CSR lists ``members[start[j]:start[j + 1]]`` for ``nodes[j]`` (particles in
+    ascending order).  One pass over the particles; only those with a domain corner
+    near one of ``nodes`` enumerate their support."""
+    d = x.shape[1]
+    b2 = kind == B2CPDI
     slot = np.full(n_nodes, -1, dtype=np.int64)
     for j in range(nodes.shape[0]):
         slot[nodes[j]] = j
+    flag = _reaching_bases(nodes, 3 if b2 else 2, nn)
     buf = np.empty(SUPPORT_MAX, dtype=np.int64)
+    corner = np.empty(d)
+    base = np.empty(d, dtype=np.int64)
+    on_line = np.zeros(d, dtype=np.bool_)
+    hit_p = np.empty(max(16, 4 * nodes.shape[0]), dtype=np.int64)
+    hit_j = np.empty_like(hit_p)
+    n_hit = 0
     start = np.zeros(nodes.shape[0] + 1, dtype=np.int64)
     for p in range(x.shape[0]):
-        for r in range(_support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, buf)):
-            if slot[buf[r]] >= 0:
-                start[slot[buf[r]] + 1] += 1
+        if not _reaches(p, x, r0, F, deform, b2, origin, cell, nn, flag, corner, base, on_line):
+            continue
+        for r in range(_support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, buf, corner,
+                                      base, on_line)):
+            j = slot[buf[r]]
+            if j < 0:
+                continue
+            if n_hit == hit_p.shape[0]:
+                hit_p = np.concatenate((hit_p, np.empty_like(hit_p)))
+                hit_j = np.concatenate((hit_j, np.empty_like(hit_j)))
+            hit_p[n_hit] = p
+            hit_j[n_hit] = j
+            n_hit += 1
+            start[j + 1] += 1
     for j in range(nodes.shape[0]):
         start[j + 1] += start[j]
     fill = start[:-1].copy()
-    members = np.empty(start[-1], dtype=np.int64)
-    for p in range(x.shape[0]):
-        for r in range(_support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, buf)):
-            j = slot[buf[r]]
-            if j >= 0:
-                members[fill[j]] = p
-                fill[j] += 1
+    members = np.empty(n_hit, dtype=np.int64)
+    for h in range(n_hit):
+        members[fill[hit_j[h]]] = hit_p[h]
+        fill[hit_j[h]] += 1
     return start, members
 
 
@@ -363,7 +448,12 @@ def _flat_cloud(cloud, x, field, a, b, mass, i, tol, mtot, dx) -> bool:
             for j in range(d):
                 for k in range(d):
                     cov[j, k] += (x[p, j] - mean[j]) * (x[p, k] - mean[k]) / (n * dx * dx)
-    return np.linalg.eigvalsh(cov)[0] < LR_FLAT * LR_FLAT
+    if d == 2:                      # smallest eigenvalue of the 2 x 2 covariance
+        half = 0.5 * (cov[0, 0] - cov[1, 1])
+        low = 0.5 * (cov[0, 0] + cov[1, 1]) - math.sqrt(half * half + cov[0, 1] * cov[0, 1])
+    else:
+        low = np.linalg.eigvalsh(cov)[0]
+    return low < LR_FLAT * LR_FLAT
 
 
 @njit(cache=True)

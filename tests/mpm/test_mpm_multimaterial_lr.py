@@ -185,13 +185,79 @@ def test_point_cloud_is_the_particles_whose_shape_functions_reach_the_node(shape
     F[: P // 3] = np.eye(2)
     idx, S, G = np.empty(64, np.int64), np.empty(64), np.empty((64, 2))
     out = np.empty(64, np.int64)
+    work = (np.empty(2), np.empty(2, np.int64), np.empty(2, np.bool_))
     for p in range(P):
         n = shape_cpdi(p, x, F, r0, origin, cell, nn, kind, idx, S, G)
         assert n > 0
         weight = {}
         for k in range(n):
             weight[idx[k]] = weight.get(idx[k], 0.0) + S[k]
-        m = _support_nodes(p, x, r0, F, True, kind, origin, cell, nn, out)
+        m = _support_nodes(p, x, r0, F, True, kind, origin, cell, nn, out, *work)
         support = set(out[:m].tolist())
         assert {i for i, w in weight.items() if w > 1e-14} <= support
         assert support <= set(weight)
+
+
+@pytest.mark.parametrize("shape", ["cpdi", "b2cpdi"])
+def test_support_clouds_gather_every_particle_reaching_each_node(shape):
+    """The CSR clouds (mpm.multimaterial_lr._support_clouds), which enumerate the support
+    only of particles with a domain corner near a requested node, equal the clouds read
+    off every particle's support (:func:`_support_nodes`), in ascending particle order,
+    also for particles at the grid's edges and sheared/stretched domains."""
+    from mpm.multimaterial_lr import _support_clouds, _support_nodes
+    from mpm.shape import SHAPE_CODES
+    kind = SHAPE_CODES[shape]
+    rng = np.random.default_rng(5)
+    origin, cell, nn = np.zeros(2), np.array([1.0, 1.0]), np.array([12, 12])
+    P = 400
+    x = rng.uniform(0.1, 10.9, (P, 2))
+    x[:40] = np.round(x[:40] * 4.0) / 4.0              # corners on node lines
+    r0 = np.full((P, 2), 0.25)
+    F = np.eye(2) + rng.uniform(-0.6, 0.6, (P, 2, 2))
+    F[: P // 3] = np.eye(2)
+    nodes = np.sort(rng.choice(int(nn.prod()), 30, replace=False)).astype(np.int64)
+    start, members = _support_clouds(x, r0, F, True, kind, origin, cell, nn, nodes, int(nn.prod()))
+    out = np.empty(64, np.int64)
+    work = (np.empty(2), np.empty(2, np.int64), np.empty(2, np.bool_))
+    expected = {int(i): [] for i in nodes}
+    for p in range(P):
+        for i in out[:_support_nodes(p, x, r0, F, True, kind, origin, cell, nn, out, *work)]:
+            if int(i) in expected:
+                expected[int(i)].append(p)
+    assert sum(map(len, expected.values())) > 100
+    for j, i in enumerate(nodes):
+        assert members[start[j]:start[j + 1]].tolist() == expected[int(i)]
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_particle_radius_is_the_distance_to_the_deformed_domain_ellipse(d):
+    """004 Eq 25: R_p along n is the distance from the centre to the ellipse(oid)
+    x(s) = F diag(R_0) s, |s| = 1, where it crosses the ray along n: found from the
+    forward map alone (the best of a sampling, refined by minimising the angle to n)."""
+    from scipy.optimize import minimize
+
+    from mpm.multimaterial_lr import _particle_radius
+    rng = np.random.default_rng(7)
+    F = np.eye(d) + rng.uniform(-0.5, 0.5, (20, d, d))
+    r0 = rng.uniform(0.1, 1.0, (20, d))
+
+    def unit(a):                                    # angles -> point of the unit sphere
+        if d == 2:
+            return np.array([np.cos(a[0]), np.sin(a[0])])
+        return np.array([np.sin(a[0]) * np.cos(a[1]), np.sin(a[0]) * np.sin(a[1]), np.cos(a[0])])
+
+    grid = np.stack(np.meshgrid(*[np.linspace(0, np.pi * (2 if k == d - 1 else 1), 90)
+                                  for k in range(d - 1)], indexing="ij"), -1).reshape(-1, d - 1)
+    for p in range(20):
+        n = rng.normal(size=d)
+        n /= np.linalg.norm(n)
+
+        def miss(a):                                # 1 - cos(angle between x(s) and n)
+            xs = F[p] @ (r0[p] * unit(a))
+            return 1.0 - xs @ n / np.linalg.norm(xs)
+
+        a0 = grid[np.argmin([miss(a) for a in grid])]
+        a = minimize(miss, a0, method="Nelder-Mead", options={"xatol": 1e-12, "fatol": 1e-16}).x
+        assert miss(a) < 1e-12
+        distance = np.linalg.norm(F[p] @ (r0[p] * unit(a)))
+        assert _particle_radius(n, r0, F, p, True) == pytest.approx(distance, rel=1e-6)
