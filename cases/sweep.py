@@ -17,6 +17,7 @@ import json
 import math
 import os
 import sys
+import time
 import traceback
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
@@ -31,6 +32,8 @@ from .registry import build
 from .resume import with_mpm_checkpoint
 
 SPEC_FILE = "sweep_spec.json"
+#: seconds a sweep waits after Ctrl-C for its workers to save their MPM state
+WORKER_GRACE = 60.0
 
 
 def run_point(case_name: str, overrides: dict, methods: list, options: dict) -> dict:
@@ -305,11 +308,24 @@ def _run_pool(tasks: dict, workers, finished, bar) -> None:
             finished(futures[fut], fut.result())
             bar.update(1)
     except BaseException:
+        workers_left = list((getattr(pool, "_processes", None) or {}).values())
         pool.shutdown(wait=False, cancel_futures=True)
-        for proc in list(getattr(pool, "_processes", {}).values()):
-            proc.terminate()
+        _stop_workers(workers_left)
         raise
     pool.shutdown()
+
+
+def _stop_workers(procs: list, grace: float = WORKER_GRACE) -> None:
+    """After Ctrl-C: a terminal's Ctrl-C reaches the workers too, and an MPM run there
+    stops at the end of its interval and saves its state (mpm.solver._InterruptFlag), so
+    wait up to ``grace`` seconds for them before terminating the rest (those keep their
+    last periodic checkpoint)."""
+    deadline = time.monotonic() + grace
+    for proc in procs:
+        proc.join(max(0.0, deadline - time.monotonic()))
+    for proc in procs:
+        if proc.is_alive():
+            proc.terminate()
 
 
 def _run_dask(tasks: dict, address, finished, bar) -> None:

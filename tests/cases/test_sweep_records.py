@@ -105,3 +105,28 @@ def test_sweep_refuses_a_shared_mpm_checkpoint(tmp_path):
     with pytest.raises(CaseError, match="mpm option checkpoint is not for sweeps"):
         sweep("two_layer", "Dt", [5.0, 50.0], methods="mpm", workers=1,
               options={"mpm": {"checkpoint": str(tmp_path / "x.npz")}})
+
+
+def test_interrupt_of_a_parallel_sweep_keeps_finished_points_and_stops_the_workers(tmp_path,
+                                                                                   monkeypatch):
+    """Ctrl-C while worker processes run (workers=2): the sweep raises KeyboardInterrupt
+    (the CLI turns it into one line), the finished point is kept and no worker is left
+    running."""
+    real_completed = sweep_module.as_completed
+
+    def interrupted(futures):
+        for k, fut in enumerate(real_completed(futures)):
+            if k == 1:
+                raise KeyboardInterrupt
+            yield fut
+
+    stopped = []
+    real_stop = sweep_module._stop_workers
+    monkeypatch.setattr(sweep_module, "as_completed", interrupted)
+    monkeypatch.setattr(sweep_module, "_stop_workers",
+                        lambda procs: stopped.extend(procs) or real_stop(procs, grace=5.0))
+    rec = tmp_path / "rec"
+    with pytest.raises(KeyboardInterrupt):
+        sweep("dcb", "Dn", VALUES, methods="analytic", workers=2, record_dir=rec)
+    assert len(list((rec / "points").glob("point_*.json"))) >= 1
+    assert stopped and not any(proc.is_alive() for proc in stopped)
