@@ -36,7 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .shape import B2CPDI, CPDI, SHAPE_CODES
+from .shape import B2CPDI, CPDI, SHAPE_CODES, snapped
 
 LR_MAX_ITER = 15
 LR_TOL = 1.0e-5
@@ -183,7 +183,8 @@ def _corner_base(p, c, x, r0, F, deform, b2, origin, cell, corner, base, on_line
     x +- F r0 (``deform``; else x +- r0) into ``corner``, and the first node of its
     stencil per axis into ``base``: the cell's lower node (linear), or the lower of the
     3 nearest nodes (``b2``).  ``on_line[k]``: the corner lies on node line base[k]
-    (linear only; the node beyond has hat weight 0)."""
+    (linear only).  A corner within ``SNAP`` cells of a node line (linear) or a cell
+    midpoint (B2) is put on it, as the weights are (mpm.shape, "Ties")."""
     d = x.shape[1]
     for j in range(d):
         corner[j] = x[p, j]
@@ -193,6 +194,7 @@ def _corner_base(p, c, x, r0, F, deform, b2, origin, cell, corner, base, on_line
             corner[j] += sgn * fjk * r0[p, k]
     for k in range(d):
         t = (corner[k] - origin[k]) / cell[k]
+        t = snapped(t + 0.5) - 0.5 if b2 else snapped(t)      # as the weights (mpm/shape.py)
         base[k] = int(math.floor(t + 0.5)) - 1 if b2 else int(math.floor(t))
         on_line[k] = not b2 and t == base[k]
 
@@ -203,12 +205,14 @@ def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out, corner, bas
     """The nodes where the CPDI (``kind`` CPDI) or B2-CPDI shape function of particle p
     is nonzero (written to ``out``; their count): the 2^D nodes of the cell holding each
     corner of its domain x +- F r0 (``deform``; else x +- r0), the 3^D nearest nodes of
-    each corner for B2-CPDI. A corner on a node line leaves out the node beyond it (its
-    hat weight is 0). ``corner``, ``base``, ``on_line``: work arrays of length D."""
+    each corner for B2-CPDI. A corner on a node line counts the nodes on both sides of
+    the line (the closed support of the hats: their weight there is 0, but a corner
+    1e-16 cell to either side would reach one of them, so the cloud does not depend on
+    the side round-off puts it). ``corner``, ``base``, ``on_line``: work arrays of
+    length D."""
     d = x.shape[1]
     b2 = kind == B2CPDI
-    width = 3 if b2 else 2
-    total = width ** d
+    total = 3 ** d
     cnt = 0
     for c in range(1 << d):
         _corner_base(p, c, x, r0, F, deform, b2, origin, cell, corner, base, on_line)
@@ -217,9 +221,10 @@ def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out, corner, bas
             node = 0
             stride = 1
             for k in range(d):
-                ik = base[k] + rem % width
-                rem //= width
-                if ik < 0 or ik >= nn[k] or (on_line[k] and ik > base[k]):
+                off = rem % 3 if b2 else rem % 3 - 1
+                ik = base[k] + off
+                rem //= 3
+                if ik < 0 or ik >= nn[k] or (off < 0 and not on_line[k]):
                     node = -1
                     break
                 node += ik * stride
@@ -276,7 +281,7 @@ def _reaches(p, x, r0, F, deform, b2, origin, cell, nn, flag, corner, base, on_l
         b = 0
         stride = 1
         for k in range(d):
-            bk = min(max(base[k], 0), nn[k] - 1)
+            bk = min(max(base[k] - (0 if b2 else 1), 0), nn[k] - 1)
             b += bk * stride
             stride *= nn[k]
         if flag[b]:
@@ -295,7 +300,7 @@ def _support_clouds(x, r0, F, deform, kind, origin, cell, nn, nodes, n_nodes):
     slot = np.full(n_nodes, -1, dtype=np.int64)
     for j in range(nodes.shape[0]):
         slot[nodes[j]] = j
-    flag = _reaching_bases(nodes, 3 if b2 else 2, nn)
+    flag = _reaching_bases(nodes, 3, nn)
     buf = np.empty(SUPPORT_MAX, dtype=np.int64)
     corner = np.empty(d)
     base = np.empty(d, dtype=np.int64)

@@ -380,3 +380,54 @@ def test_df_and_lr_contact_of_a_compressed_stack_equal_the_uncut_block(shape, sp
     k = r.quantities["stiffness"] / one.quantities["stiffness"] - 1.0
     assert abs(k) < (3e-3 if shape == "cpdi" and separation == "DF" else 1e-5), k
 
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_a_domain_corner_near_a_tie_gets_the_weights_of_the_tie(kind):
+    """mpm.shape "Ties": a particle filling its cells has CPDI corners on node lines
+    (B2-CPDI: on cell midpoints), where the node beyond has weight 0. Moved by 1e-15
+    mm (round-off) to either side, it lists the same nodes, with weight exactly 0 where
+    the tie has 0, so no node gets a field of ~1e-16 mass on one build and none on
+    another."""
+    origin, cell, nn = np.zeros(2), np.array([0.5, 0.5]), np.array([12, 12])
+    hw = np.full((1, 2), 0.125)
+    F = np.eye(2)[None].copy()
+    tie = np.array([[2.125, 3.125]]) if kind == CPDI else np.array([[2.375, 3.375]])
+
+    def weights(x):
+        idx, S, G = np.empty(64, np.int64), np.empty(64), np.empty((64, 2))
+        n = shape_cpdi(0, x, F, hw, origin, cell, nn, kind, idx, S, G)
+        return idx[:n].tolist(), S[:n].tolist(), G[:n].tolist()
+
+    nodes, S, G = weights(tie)
+    zero = [k for k, s in enumerate(S) if s == 0.0]
+    assert zero                                      # the tie: listed nodes of weight 0
+    for dx in (1e-15, -1e-15, 4e-16):
+        nodes_d, S_d, G_d = weights(tie + dx)
+        assert nodes_d == nodes and [k for k, s in enumerate(S_d) if s == 0.0] == zero
+        assert np.allclose(S_d, S, rtol=0.0, atol=1e-13)
+        assert np.allclose(G_d, G, rtol=0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("kind", [CPDI, B2CPDI])
+def test_point_cloud_of_a_corner_near_a_tie_does_not_depend_on_round_off(kind):
+    """The LR point clouds (mpm.multimaterial_lr._support_nodes) of a particle whose
+    domain corners lie on node lines are the same moved by 1e-15 mm to either side, and
+    (linear CPDI) hold the nodes on both sides of the line, whose weight is 0 there."""
+    from mpm.multimaterial_lr import _support_nodes
+    origin, cell, nn = np.zeros(2), np.array([0.5, 0.5]), np.array([12, 12])
+    r0 = np.full((1, 2), 0.125)
+    F = np.eye(2)[None].copy()
+    tie = np.array([[2.125, 3.125]]) if kind == CPDI else np.array([[2.375, 3.375]])
+    out = np.empty(64, np.int64)
+    work = (np.empty(2), np.empty(2, np.int64), np.empty(2, np.bool_))
+
+    def support(x):
+        return sorted(out[:_support_nodes(0, x, r0, F, True, kind, origin, cell, nn, out,
+                                          *work)].tolist())
+
+    exact = support(tie)
+    for dx in (1e-15, -1e-15, 4e-16):
+        assert support(tie + dx) == exact
+    if kind == CPDI:       # corners on the lines x = 2 (node 4), y = 3 (node 6): 3 x 3
+        assert exact == sorted(i + 12 * j for i in range(3, 6) for j in range(5, 8))
