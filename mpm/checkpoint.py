@@ -19,6 +19,7 @@ import hashlib
 import json
 import os
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -59,7 +60,7 @@ def save(path: str | os.PathLike, model, runner) -> None:
         for name, value in fields.items():
             arrays[f"frame{k}_field_{name}"] = value
     scalars = {"fingerprint": fingerprint(model.case, model.opts), "t": runner.t,
-               "steps": runner.steps, "over_limit": list(runner.over_limit),
+               "steps": runner.steps, "wall": runner.wall(), "over_limit": list(runner.over_limit),
                "period": model.period, "alpha": model.alpha, "max_time": model.max_time,
                "frame_times": [t for t, _, _ in runner.frames],
                "frame_fields": [list(f) for _, _, f in runner.frames]}
@@ -94,6 +95,8 @@ def load(path: str | os.PathLike, model, runner) -> None:
         if f"particle_{k}" in data:     # checkpoints written before F was kept: identity
             getattr(pt, k)[...] = data[f"particle_{k}"]
     runner.t, runner.steps = float(scalars["t"]), int(scalars["steps"])
+    runner.wall_before = float(scalars.get("wall", 0.0))   # absent in older checkpoints
+    runner.started = time.perf_counter()
     hist = data["history"]
     runner.hist_chunks = [hist] if hist.shape[0] else []
     runner.ke_prev[:] = data["ke_prev"]

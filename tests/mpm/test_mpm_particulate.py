@@ -82,7 +82,8 @@ def test_unlimited_interface_stiffens_beyond_the_perfect_bond():
 def test_particulate_full_resolution_in_the_transition():
     """000's full resolution, 25 um cells (40 per side, 512k particles; 82 min on one
     core), D = 1e4: measured K = 2310.8 (energy) / 2287.3 (pressure) against 2328.7 from
-    composite spheres (-0.77 / -1.78 %; at 50 um +1.19 / +0.05 %, at 0.1 mm +2.5 / +0.85 %)."""
+    composite spheres (-0.77 / -1.78 %; at 50 um +1.19 / +0.05 %, at 0.1 mm +2.5 / +0.85 %).
+    Every D of 000 Fig 13 at 25 um: docs/particulate_25um/points.csv (all within 3.3 %)."""
     K_u, K_p, K_ref, res = _bulk(1.0e4, cell=0.025)
     assert res.diagnostics["stopped_by"] == "kinetic_energy"
     assert K_u == pytest.approx(K_ref, rel=0.05)
