@@ -32,10 +32,12 @@ of any mass is present at a node for contact: in the ellipse compaction of 004 F
 that lottery moved the stress at 20 % compression by 46 % for particles moved by
 1e-15 mm. A point within ``SNAP`` cells of the tie is therefore put on it
 (:func:`snapped`, linear and B2 weights: the point moves by at most 1e-9 cell, the same
-for every node of its stencil, so the partitions of unity hold exactly), and the same
-input gives the same contact on any build. The uGIMP tail is left as it is: its weight
-at a tie is (1e-16)^2 of the particle's, and cutting it would leave the gradients'
-partition of unity off by 1e-9.
+for every node of its stencil, so the partitions of unity hold exactly), and round-off
+no longer decides which nodes a particle reaches at t = 0 (later in a run a packing can
+still amplify round-off: docs/mpm.md). The uGIMP tail is left as it is: its weight at a
+tie is ~(1e-16)^2 of the particle's, and cutting it would leave the gradients' partition
+of unity off by 1e-9; that such a weight can make a field present for contact (with
+``mass_tolerance`` 0) is not measured and not handled.
 """
 from __future__ import annotations
 
