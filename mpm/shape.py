@@ -36,8 +36,8 @@ for every node of its stencil, so the partitions of unity hold exactly), and rou
 no longer decides which nodes a particle reaches at t = 0 (later in a run a packing can
 still amplify round-off: docs/mpm.md). The uGIMP tail is left as it is: its weight at a
 tie is ~(1e-16)^2 of the particle's, and cutting it would leave the gradients' partition
-of unity off by 1e-9; that such a weight can make a field present for contact (with
-``mass_tolerance`` 0) is not measured and not handled.
+of unity off by 1e-9. uGIMP contact in a packing still depends on round-off (measured
+in docs/mpm.md, "Ties"; not handled).
 """
 from __future__ import annotations
 
