@@ -194,7 +194,7 @@ def _corner_base(p, c, x, r0, F, deform, b2, origin, cell, corner, base, on_line
             corner[j] += sgn * fjk * r0[p, k]
     for k in range(d):
         t = (corner[k] - origin[k]) / cell[k]
-        t = snapped(t + 0.5) - 0.5 if b2 else snapped(t)      # as the weights (mpm/shape.py)
+        t = snapped(t, 0.5 if b2 else 0.0)      # as the weights (mpm/shape.py)
         base[k] = int(math.floor(t + 0.5)) - 1 if b2 else int(math.floor(t))
         on_line[k] = not b2 and t == base[k]
 

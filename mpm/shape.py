@@ -60,9 +60,10 @@ SNAP = 1e-9
 
 
 @njit(cache=True, inline="always")
-def snapped(xi: float) -> float:
-    """xi (a position in cells) rounded to the nearest integer when within SNAP of it."""
-    r = np.floor(xi + 0.5)
+def snapped(xi: float, offset: float = 0.0) -> float:
+    """xi (a position in cells) put on the nearest tie k + ``offset`` (k an integer: node
+    lines; ``offset`` 0.5: cell midpoints) when within SNAP of it; else xi unchanged."""
+    r = np.floor(xi - offset + 0.5) + offset
     return r if abs(xi - r) < SNAP else xi
 
 
@@ -70,7 +71,7 @@ def snapped(xi: float) -> float:
 def b2_weights(x: float, o: float, h: float):
     """Quadratic B-spline weights and d/dx of the 3 nodes i0, i0 + 1, i0 + 2 around x
     (node i0 + 1 nearest): (i0, w0, w1, w2, dw0, dw1, dw2)."""
-    xi = snapped((x - o) / h + 0.5) - 0.5
+    xi = snapped((x - o) / h, 0.5)     # ties on cell midpoints
     c = int(np.floor(xi + 0.5))
     r = xi - c                      # in [-1/2, 1/2)
     a = 0.5 - r

@@ -381,6 +381,14 @@ def test_df_and_lr_contact_of_a_compressed_stack_equal_the_uncut_block(shape, sp
     assert abs(k) < (3e-3 if shape == "cpdi" and separation == "DF" else 1e-5), k
 
 
+def _particle_at_a_tie(kind):
+    """One undeformed particle of a 2-per-cell lattice (cells 0.5 mm) whose domain has
+    corners on the node lines x = 2, y = 3 (CPDI) or on the cell midpoints x = 2.25,
+    y = 3.25 (B2-CPDI): (x, half-widths, F, origin, cell, nodes per axis)."""
+    x = np.array([[2.125, 3.125]]) if kind == CPDI else np.array([[2.375, 3.375]])
+    return (x, np.full((1, 2), 0.125), np.eye(2)[None].copy(), np.zeros(2),
+            np.array([0.5, 0.5]), np.array([12, 12]))
+
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_a_domain_corner_near_a_tie_gets_the_weights_of_the_tie(kind):
@@ -389,10 +397,7 @@ def test_a_domain_corner_near_a_tie_gets_the_weights_of_the_tie(kind):
     mm (round-off) to either side, it lists the same nodes, with weight exactly 0 where
     the tie has 0, so no node gets a field of ~1e-16 mass on one build and none on
     another."""
-    origin, cell, nn = np.zeros(2), np.array([0.5, 0.5]), np.array([12, 12])
-    hw = np.full((1, 2), 0.125)
-    F = np.eye(2)[None].copy()
-    tie = np.array([[2.125, 3.125]]) if kind == CPDI else np.array([[2.375, 3.375]])
+    tie, hw, F, origin, cell, nn = _particle_at_a_tie(kind)
 
     def weights(x):
         idx, S, G = np.empty(64, np.int64), np.empty(64), np.empty((64, 2))
@@ -409,16 +414,13 @@ def test_a_domain_corner_near_a_tie_gets_the_weights_of_the_tie(kind):
         assert np.allclose(G_d, G, rtol=0.0, atol=1e-12)
 
 
-@pytest.mark.parametrize("kind", [CPDI, B2CPDI])
+@pytest.mark.parametrize("kind", KINDS)
 def test_point_cloud_of_a_corner_near_a_tie_does_not_depend_on_round_off(kind):
     """The LR point clouds (mpm.multimaterial_lr._support_nodes) of a particle whose
     domain corners lie on node lines are the same moved by 1e-15 mm to either side, and
     (linear CPDI) hold the nodes on both sides of the line, whose weight is 0 there."""
     from mpm.multimaterial_lr import _support_nodes
-    origin, cell, nn = np.zeros(2), np.array([0.5, 0.5]), np.array([12, 12])
-    r0 = np.full((1, 2), 0.125)
-    F = np.eye(2)[None].copy()
-    tie = np.array([[2.125, 3.125]]) if kind == CPDI else np.array([[2.375, 3.375]])
+    tie, r0, F, origin, cell, nn = _particle_at_a_tie(kind)
     out = np.empty(64, np.int64)
     work = (np.empty(2), np.empty(2, np.int64), np.empty(2, np.bool_))
 
