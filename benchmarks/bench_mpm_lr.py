@@ -10,10 +10,10 @@ figures. 004 reports LR at about 1.55x the cost of DF. With ``--old PATH`` (a ch
 of the previous commit, e.g. ``git worktree add --detach /tmp/mpm_old main``) the same
 runs of that tree interleave with these and the old / new time ratios are reported.
 Each run's final mean axial stress and interpenetration count are printed beside its
-time: the packing amplifies round-off (004 Fig 6 is chaotic past about 30 %
-compression at 0.05 mm), so two trees whose kernels differ only in round-off still end
-in different packings; compare times over a strain both trees share (``--strain 0.3``)
-when that matters. Writes ``bench_mpm_lr.json`` next to this script.
+time: the packing amplifies round-off (docs/mpm.md, "Ties": at 0.05 mm a 1e-12 mm
+change departs DF past about 57 % compression and LR from about 16 %), so two trees
+whose kernels differ only in round-off still end in different packings; compare times
+over a strain both trees share (``--strain 0.3``) when that matters. Writes ``bench_mpm_lr.json`` next to this script.
 
 Usage: ``python benchmarks/bench_mpm_lr.py [--cell 0.05] [--strain 0.75] [--repeat 2]
 [--old PATH]``
