@@ -13,7 +13,8 @@ Each run's final mean axial stress and interpenetration count are printed beside
 time: the packing amplifies round-off (docs/mpm.md, "Ties": at 0.05 mm a 1e-12 mm
 change departs DF past about 57 % compression and LR from about 16 %), so two trees
 whose kernels differ only in round-off still end in different packings; compare times
-over a strain both trees share (``--strain 0.3``) when that matters. Writes ``bench_mpm_lr.json`` next to this script.
+over a strain both trees share (``--strain 0.15`` for LR, ``0.5`` for DF) when that
+matters. Writes ``bench_mpm_lr.json`` next to this script.
 
 Usage: ``python benchmarks/bench_mpm_lr.py [--cell 0.05] [--strain 0.75] [--repeat 2]
 [--old PATH]``
