@@ -34,10 +34,11 @@ that lottery moved the stress at 20 % compression by 46 % for particles moved by
 (:func:`snapped`, linear and B2 weights: the point moves by at most 1e-9 cell, the same
 for every node of its stencil, so the partitions of unity hold exactly), and round-off
 no longer decides which nodes a particle reaches at t = 0 (later in a run a packing can
-still amplify round-off: docs/mpm.md). The uGIMP tail is left as it is: its weight at a
-tie is ~(1e-16)^2 of the particle's, and cutting it would leave the gradients' partition
-of unity off by 1e-9. uGIMP contact in a packing still depends on round-off (measured
-in docs/mpm.md, "Ties"; not handled).
+still amplify round-off: docs/mpm.md). A uGIMP support end within SNAP cells of a node
+line gets the weights of the tie (:func:`ugimp_weights`): the node beyond 0, the other
+two the limits l_p / h and 1 - l_p / h with slopes -+1/h, as if the whole stencil had
+moved by the support end's distance to the line (both partitions of unity exact),
+instead of a tail weight ~(1e-16)^2 of the particle's or none.
 """
 from __future__ import annotations
 
@@ -130,6 +131,29 @@ def _gimp_far(r: float, h: float, lp: float):
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def ugimp_weights(x: float, o: float, h: float, lp: float):
+    """uGIMP weights and d/dx of the 3 nodes i0, i0 + 1, i0 + 2 around x (node i0 + 1
+    nearest): (i0, w0, w1, w2, dw0, dw1, dw2). A support end within SNAP cells of the
+    node i0 (r0 = h + l_p) or i0 + 2 (r0 = h - l_p) gets the weights of the tie exactly
+    (module docstring, "Ties"): the node beyond has w = dw = 0, the other two
+    l_p / h, 1 - l_p / h and slopes -+1/h, the limits of the tail and the linear piece.
+    The tie is one compare after the usual weights, and it rarely changes them, so the
+    hot loops keep their speed."""
+    i0 = int(np.floor((x - o) / h + 0.5)) - 1
+    r0 = x - (o + i0 * h)          # in [h/2, 3h/2): node i0 + 1 is the nearest
+    w0, d0 = _gimp_far(r0, h, lp)
+    w1, d1 = _gimp_near(r0 - h, h, lp)
+    w2, d2 = _gimp_far(r0 - 2.0 * h, h, lp)
+    if abs(abs(r0 - h) - lp) < SNAP * h:
+        a = lp / h
+        g = 1.0 / h
+        if r0 > h:                 # left support end on node i0
+            return i0, 0.0, 1.0 - a, a, 0.0, -g, g
+        return i0, a, 1.0 - a, 0.0, -g, g, 0.0
+    return i0, w0, w1, w2, d0, d1, d2
+
+
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def axis_weights_tuple(x: float, o: float, h: float, lp: float, kind: int):
     """1D weights of one particle along one axis as scalars:
     (i0, count, w0, w1, w2, dw0, dw1, dw2) for the nodes i0 + k, k < count.
@@ -149,11 +173,7 @@ def axis_weights_tuple(x: float, o: float, h: float, lp: float, kind: int):
     if kind == B2:
         i0, w0, w1, w2, d0, d1, d2 = b2_weights(x, o, h)
         return i0, 3, w0, w1, w2, d0, d1, d2
-    i0 = int(np.floor(xi + 0.5)) - 1
-    r0 = x - (o + i0 * h)          # in [h/2, 3h/2): node i0 + 1 is the nearest
-    w0, d0 = _gimp_far(r0, h, lp)
-    w1, d1 = _gimp_near(r0 - h, h, lp)
-    w2, d2 = _gimp_far(r0 - 2.0 * h, h, lp)
+    i0, w0, w1, w2, d0, d1, d2 = ugimp_weights(x, o, h, lp)
     if w0 == 0.0 and d0 == 0.0:
         return i0 + 1, 2, w1, w2, 0.0, d1, d2, 0.0
     if w2 == 0.0 and d2 == 0.0:
@@ -177,12 +197,7 @@ def axis_weights3(x: float, o: float, h: float, lp: float, kind: int):
         return i0, 1.0 - r, r, 0.0, -1.0 / h, 1.0 / h, 0.0
     if kind == B2:
         return b2_weights(x, o, h)
-    i0 = int(np.floor(xi + 0.5)) - 1
-    r0 = x - (o + i0 * h)
-    w0, d0 = _gimp_far(r0, h, lp)
-    w1, d1 = _gimp_near(r0 - h, h, lp)
-    w2, d2 = _gimp_far(r0 - 2.0 * h, h, lp)
-    return i0, w0, w1, w2, d0, d1, d2
+    return ugimp_weights(x, o, h, lp)
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from cases.library import dls
 from mpm.options import merge
 from mpm.parallel import BlockBuffers
-from mpm.shape import LINEAR, UGIMP, axis_weights_tuple, gimp_1d, snapped
+from mpm.shape import LINEAR, SNAP, UGIMP, axis_weights_tuple, gimp_1d, snapped
 from mpm.solver import Model, _Runner
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -124,6 +124,13 @@ def test_mpm_axis_weights_tuple_matches_gimp_formula(x, h, lp_ratio):
     i0, n, *wd = axis_weights_tuple(x, o, h, lp, UGIMP)
     w, dw = wd[:3], wd[3:]
     assert n in (2, 3)
+    # a support end within SNAP cells of a node line is on it (the reference is taken
+    # there: the stencil moved by the end's distance to the line)
+    base = o + (np.floor((x - o) / h + 0.5) - 1.0) * h
+    r0 = x - base
+    for end in (h + lp, h - lp):
+        if abs(r0 - end) < SNAP * h:
+            x = base + end
     # round-off of the local coordinate (x - x_i) / h grows with |x - o| / h, and the
     # uGIMP gradient divides it by l_p (fastmath may also reassociate the polynomial)
     tol_w = 64.0 * np.finfo(float).eps * (abs(x - o) / h + 1.0)
@@ -143,3 +150,22 @@ def test_mpm_axis_weights_tuple_matches_gimp_formula(x, h, lp_ratio):
     i0, n, *wd = axis_weights_tuple(x, o, h, lp, LINEAR)
     r = snapped((x - o) / h) - i0            # a point within SNAP cells of a node is on it
     assert n == 2 and 0.0 <= r < 1.0 and wd[0] == 1.0 - r and wd[1] == r
+
+
+@pytest.mark.parametrize("end", [1.0, -1.0])
+@pytest.mark.parametrize("offset", [0.0, 1e-15, -1e-15, 3e-13])
+def test_a_ugimp_support_end_near_a_node_line_gets_the_weights_of_the_tie(end, offset):
+    """A particle filling its cells (l_p = h/4) has its support end on a node line; put
+    there or moved by round-off, it reaches the same nodes with the tie's weights (the
+    node beyond: 0; else the limits of the tail and linear piece), not a ~1e-32 tail."""
+    o, h, lp = -5.0, 0.05, 0.0125
+    x = o + 7 * h + end * lp + offset   # nearest node 7, support end on node 6 / 8
+    i0, n, *wd = axis_weights_tuple(x, o, h, lp, UGIMP)
+    w, dw = wd[:n], wd[3:3 + n]
+    a = lp / h
+    assert n == 2
+    if end > 0:
+        assert i0 == 7 and np.allclose(w, [1 - a, a], rtol=0, atol=1e-12)
+    else:
+        assert i0 == 6 and np.allclose(w, [a, 1 - a], rtol=0, atol=1e-12)
+    assert np.allclose(np.array(dw) * h, [-1, 1], rtol=0, atol=1e-12)
