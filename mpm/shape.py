@@ -164,9 +164,8 @@ def axis_weights_tuple(x: float, o: float, h: float, lp: float, kind: int):
     Unused slots are 0. Returning scalars (not filling arrays) keeps the hot particle
     loops free of numba reference-count calls on the work arrays (2x faster P2G).
     """
-    xi = (x - o) / h
     if kind == LINEAR:
-        xi = snapped(xi)
+        xi = snapped((x - o) / h)
         i0 = int(np.floor(xi))
         r = xi - i0  # in [0, 1): the gradient is the one of the cell containing x
         return i0, 2, 1.0 - r, r, 0.0, -1.0 / h, 1.0 / h, 0.0
@@ -189,9 +188,8 @@ def axis_weights3(x: float, o: float, h: float, lp: float, kind: int):
     over this fixed 3 x 3 stencil: a loop of constant trip count that the compiler
     unrolls is ~2x faster than the 2-or-3 node loop of :func:`axis_weights_tuple`,
     even with the zero weights; scatters keep the trimmed count (fewer stores)."""
-    xi = (x - o) / h
     if kind == LINEAR:
-        xi = snapped(xi)
+        xi = snapped((x - o) / h)
         i0 = int(np.floor(xi))
         r = xi - i0
         return i0, 1.0 - r, r, 0.0, -1.0 / h, 1.0 / h, 0.0
