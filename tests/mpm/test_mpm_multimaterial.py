@@ -320,6 +320,21 @@ def test_thin_rigid_body_holds_a_field_at_a_node_beyond_its_mid_plane():
     np.testing.assert_array_equal(s["momentum"][0, 1], pr)
 
 
+@pytest.mark.parametrize("round_off", [1e-18, 0.0, -1e-18])
+def test_a_corner_node_beside_a_rigid_face_keeps_the_rigid_normal(round_off):
+    """A field's corner node below a piston moving down at 1: the field's outward
+    gradient points along x, the piston's along -y, perpendicular. Its normal (up, into
+    the piston) must not turn with the sign of the round-off x part of g_r: it did, so a
+    1e-15 mm move of the particles decided contact at the piston's first touch (004 Fig 6,
+    uGIMP). Frictionless contact: the field takes the piston's normal velocity."""
+    case = make_case(2, [(0, 1, CoulombFriction(0.0))])
+    tables = mm.build_pair_tables(case, {"normal": "AG", "separation": "velocity", "rigid_bodies": ["b1"]})
+    s = rigid_contact_state((0.0, 0.0), [(0.02, 0.0), (round_off, -1e-3)], (0.3, 0.7))
+    s["momentum"][0, 1] = (0.0, -1.0)
+    correct(1, s, tables)
+    np.testing.assert_allclose(velocities(s)[0, 0], (0.0, -1.0), atol=1e-12)
+
+
 def test_inside_a_rigid_body_its_round_off_gradient_is_not_a_normal():
     """At a node inside a thick rigid body its volume gradient is round-off; the normal
     then comes from the method (AG: the deformable field's outward gradient, up), not
