@@ -22,15 +22,16 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 
-def run(size: tuple, interface: str, load_case: int, path: str, load_steps: int) -> dict:
+def run(size: tuple, interface: str, load_case: int, path: str, load_steps: int,
+        nu_A: float = 0.1) -> dict:
     import peridynamics
     from cases import library
     from interfaces.errors import SolverError
 
-    case = library.cuboid(interface=interface, load_case=load_case, size=size)
+    case = library.cuboid(interface=interface, load_case=load_case, size=size, nu_A=nu_A)
     t0, c0 = time.perf_counter(), time.process_time()
     row = {"size": list(size), "interface": interface, "load_case": load_case, "path": path,
-           "load_steps": load_steps}
+           "load_steps": load_steps, "nu_A": nu_A}
     try:
         res = peridynamics.solve(case, h=0.035, path=path, load_steps=load_steps, progress=True)
     except SolverError as e:
@@ -55,10 +56,12 @@ def main():
     ap.add_argument("--load-case", type=int, default=2)
     ap.add_argument("--path", default="arc_length")
     ap.add_argument("--load-steps", type=int, default=4)
+    ap.add_argument("--nu-a", dest="nu_A", type=float, default=0.1,
+                    help="material A's Poisson ratio (003: 0.1, C3^A < 0; 0.25: C3^A = 0)")
     ap.add_argument("--out")
     a = ap.parse_args()
     size = tuple(float(v) for v in a.size.split("x"))
-    row = run(size, a.interface, a.load_case, a.path, a.load_steps)
+    row = run(size, a.interface, a.load_case, a.path, a.load_steps, a.nu_A)
     line = json.dumps(row, default=str)
     print(line, flush=True)
     if a.out:

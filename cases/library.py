@@ -480,10 +480,12 @@ def bimaterial_square(parameter_set: int = 1, load_case: int = 1, interface: str
 
 
 def cuboid(interface: str = "vertical", load_case: int = 1, size=(1.0, 1.0, 1.0), h: float = 0.035,
-           delta_factor: float = 3.01, Dn: float = math.inf, Dt: float = math.inf) -> Case:
+           delta_factor: float = 3.01, Dn: float = math.inf, Dt: float = math.inf,
+           nu_A: float = 0.1) -> Case:
     """Bimaterial cuboid of 003 Sec 4.5 (Fig 13), 3D, interface Dn, Dt (inf: perfect, as in 003).
 
-    Material A (nu = 0.1) and B (nu = 0.4, C1^B = 20 C1^A) with C1^A = 1 at
+    Material A (``nu_A`` = 0.1 in 003: C3^A < 0; 0.25 gives C3^A = 0) and B (nu = 0.4,
+    C1^B = 20 C1^A) with C1^A = 1 at
     delta = 3.01 x 0.035, converted by ERRATA 12 (mu = pi C1 delta^4 / 30). Interface
     ``vertical`` (x = 0) or ``horizontal`` (z = 0); u = H X on the x-sides with H of
     load case I-III extended to 3D (0.1 %).
@@ -499,7 +501,8 @@ def cuboid(interface: str = "vertical", load_case: int = 1, size=(1.0, 1.0, 1.0)
         mu = math.pi * C1 * delta0**4 / 30
         return IsotropicElastic(E=2 * mu * (1 + nu), nu=nu, rho=1.0 * G_PER_CM3)
 
-    mats = {"A": mat(1.0, 0.1), "B": mat(20.0, 0.4)}
+    nu_A = check_number("nu_A", nu_A, low=-1.0, high=0.5, low_open=True, high_open=True)
+    mats = {"A": mat(1.0, nu_A), "B": mat(20.0, 0.4)}
     if interface == "vertical":
         shapes = (Box(-sx / 2, -sy / 2, -sz / 2, sx / 2, sy, sz), Box(0.0, -sy / 2, -sz / 2, sx / 2, sy, sz))
     else:

@@ -83,6 +83,14 @@ HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc"
                 "kinetic_grid")
 
 
+def _energy_ratio_text(kinetic: float, stored: float) -> str:
+    """KE/U of the progress line; before any strain energy is stored (a body moving
+    freely toward contact) the ratio is meaningless and is not shown."""
+    if stored > 1e-12 * kinetic and stored > 0.0:
+        return f"KE/U={kinetic / stored:.2e}"
+    return "KE/U=- (U = 0)"
+
+
 def supports(case) -> str | None:
     """None when MPM can run ``case``, else the one-line reason (used by ``imperfect list``
     and ``--methods all``, so no method is advertised for a case it refuses)."""
@@ -454,9 +462,7 @@ class _Runner:
                     next_frame += vtk_every
                 # the step limit grows when a slower mode is found: never move the bar back
                 shown = max(shown, self.steps / total_steps)
-                U, ui = h[-1, 2], h[-1, 6]
-                bar.update(shown,
-                           f"t={self.t:.3g}s KE/U={h[-1, 7] / max(U + ui, 1e-300):.2e}")
+                bar.update(shown, f"t={self.t:.3g}s {_energy_ratio_text(h[-1, 7], h[-1, 2] + h[-1, 6])}")
                 total_steps = self._adapt(total_steps)
                 if m.mie_gruneisen:
                     total_steps = self._shock_time_step()
