@@ -25,6 +25,7 @@ from interfaces.sparse import KINDS
 
 from .assembly import CPDSystem, MaterialBlock, neighbour_lists
 from .discretization import Discretization, discretize
+from .dispersion import unstable_materials
 from .interface import Springs, check_laws, split_band
 from .newton import PATHS, PRECONDITIONERS, NewtonOptions, newton_solve
 from .parameters import calibrate, cpd_from_lame, lattice_ratios
@@ -294,6 +295,8 @@ def solve(case, **options) -> Result:
     t0 = time.perf_counter()
     system, used = build_system(case, disc, o["calibration"], o["constants"], springs, ties)
     timings["neighbours_pattern"] = time.perf_counter() - t0
+    for msg in unstable_materials(used, disc.h, disc.delta, case.dimension):
+        warnings.warn(msg, RuntimeWarning, stacklevel=2)
     fixed, u_bar, f_ext = boundary_vectors(disc)
     est = estimate_tuples(system)
     seconds = SECONDS_PER_TUPLE * (est["triples"] + est["quadruples"])
