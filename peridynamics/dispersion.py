@@ -19,8 +19,9 @@ D(q) below zero is a wave of negative energy: the material is unstable at that w
 and every body large enough to hold such a wave away from its supports has a tangent with
 negative eigenvalues (003 Sec 4.5 material A, nu = 0.1, C3 < 0: docs/cpd_stability.md).
 
-Written from 003 Eq 7, 10 with numpy alone (no kernel code), so it checks the kernels'
-tangent at finite wavelengths independently (tests/peridynamics/test_peridynamics_dispersion.py).
+Written from 003 Eq 7, 10 with numpy alone (of the kernels only their horizon and
+degeneracy thresholds), so it checks the kernels' tangent at finite wavelengths
+independently (tests/peridynamics/test_peridynamics_dispersion.py).
 """
 from __future__ import annotations
 
@@ -32,8 +33,7 @@ import numpy as np
 
 from interfaces.errors import CaseError
 
-#: relative size below which a reference area / volume counts as degenerate (the kernels' value)
-DEGENERATE = 1e-8
+from .kernels import DEGENERATE_TOL, horizon_radius2
 
 
 def lattice_horizon(h: float, delta: float, dim: int) -> np.ndarray:
@@ -43,7 +43,7 @@ def lattice_horizon(h: float, delta: float, dim: int) -> np.ndarray:
     if not (h > 0 and delta > h):
         raise CaseError(f"need 0 < h < delta, got h = {h:g}, delta = {delta:g}")
     m = int(math.ceil(delta / h))
-    r2 = (delta / h * (1.0 + 1e-12)) ** 2
+    r2 = horizon_radius2(delta) / (h * h)       # the kernels' horizon membership
     off = [o for o in itertools.product(range(-m, m + 1), repeat=dim) if 0 < np.dot(o, o) <= r2]
     return np.array(off, dtype=float) * h
 
@@ -70,13 +70,13 @@ def _triples(xi: np.ndarray, s: np.ndarray, C2: float, Vp: float) -> np.ndarray:
     scale = np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1)
     if dim == 2:
         c = _cross2(a, b)
-        keep = np.abs(c) > DEGENERATE * scale
+        keep = np.abs(c) > DEGENERATE_TOL * scale
         A = np.abs(c[keep])
         g = (s[i][keep, None] * _rot(b[keep]) - s[j][keep, None] * _rot(a[keep])) / c[keep, None]
     else:
         c = np.cross(a, b)
         A = np.linalg.norm(c, axis=1)
-        keep = A > DEGENERATE * scale
+        keep = A > DEGENERATE_TOL * scale
         A, c, a, b = A[keep], c[keep], a[keep], b[keep]
         g = (s[i][keep, None] * np.cross(b, c) + s[j][keep, None] * np.cross(c, a)) / (A * A)[:, None]
     w = (1.0 / 3.0) * C2 * A * Vp ** 3
@@ -94,45 +94,49 @@ def _quadruples(xi: np.ndarray, s: np.ndarray, C3: float, Vp: float) -> np.ndarr
         a, b, c = xi[i], xi[j], xi[k]
         bc = np.cross(b, c)
         V = bc @ a
-        keep = np.abs(V) > DEGENERATE * L[i] * L[j] * L[k]
+        keep = np.abs(V) > DEGENERATE_TOL * L[i] * L[j] * L[k]
         j, k, V, b, c, bc = j[keep], k[keep], V[keep], b[keep], c[keep], bc[keep]
         g = (s[i] * bc + s[j, None] * np.cross(c, a) + s[k, None] * np.cross(a, b)) / V[:, None]
         out += np.einsum("t,tj,tk->jk", 0.75 * C3 * np.abs(V) * Vp ** 4, np.conj(g), g).real
     return out
 
 
+def _parts(q: np.ndarray, C, xi: np.ndarray, Vp: float) -> tuple[np.ndarray, np.ndarray]:
+    """(pair part D_1(q), whole D(q)) on the horizon ``xi``."""
+    C1, C2, C3 = (float(c) for c in C)
+    s = np.exp(1j * (xi @ q)) - 1.0
+    pairs = _pairs(xi, s, C1, Vp)
+    D = pairs
+    if C2 != 0.0:
+        D = D + _triples(xi, s, C2, Vp)
+    if C3 != 0.0:
+        if xi.shape[1] != 3:
+            raise CaseError("C3 (three-neighbour interactions) needs a 3D lattice")
+        D = D + _quadruples(xi, s, C3, Vp)
+    return pairs, D
+
+
 def wave_stiffness(q, C, h: float, delta: float) -> np.ndarray:
     """D(q) (dim x dim) of the material with constants C = (C1, C2, C3) on the lattice of
     spacing ``h`` with horizon ``delta``; q the wave vector (1/mm). Point volumes h^dim."""
     q = np.asarray(q, dtype=float)
-    dim = q.size
-    xi = lattice_horizon(h, delta, dim)
-    s = np.exp(1j * (xi @ q)) - 1.0
-    Vp = h ** dim
-    C1, C2, C3 = (float(c) for c in C)
-    D = _pairs(xi, s, C1, Vp)
-    if C2 != 0.0:
-        D = D + _triples(xi, s, C2, Vp)
-    if C3 != 0.0:
-        if dim != 3:
-            raise CaseError("C3 (three-neighbour interactions) needs a 3D lattice")
-        D = D + _quadruples(xi, s, C3, Vp)
-    return D
+    return _parts(q, C, lattice_horizon(h, delta, q.size), h ** q.size)[1]
 
 
 def softest_wave(C, h: float, delta: float, dim: int, samples: int = 9) -> tuple[float, np.ndarray]:
     """Smallest eigenvalue of D(q) over the irreducible zone of the lattice (``samples`` wave
     numbers per axis up to pi / h), divided by the largest eigenvalue of the pair part D_1(q)
     there (a dimensionless margin: negative = a wave of negative energy), and its q."""
+    xi = lattice_horizon(h, delta, dim)
     best = (math.inf, np.zeros(dim))
     for idx in itertools.product(range(samples + 1), repeat=dim):
         if idx[0] == 0 or any(idx[k] > idx[k - 1] for k in range(1, dim)):
             continue                              # q_x >= q_y (>= q_z) > 0: the cubic wedge
         q = np.array(idx, dtype=float) * math.pi / (h * samples)
-        lam = np.linalg.eigvalsh(wave_stiffness(q, C, h, delta))[0]
-        pair = np.linalg.eigvalsh(wave_stiffness(q, (C[0], 0.0, 0.0), h, delta))[-1]
-        if lam / pair < best[0]:
-            best = (lam / pair, q)
+        pairs, D = _parts(q, C, xi, h ** dim)
+        margin = np.linalg.eigvalsh(D)[0] / np.linalg.eigvalsh(pairs)[-1]
+        if margin < best[0]:
+            best = (margin, q)
     return best
 
 
