@@ -452,7 +452,10 @@ def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: 
     imperfect interfaces -> only their perfect (inf) directions here (002 Sec 2.4),
     the finite directions get forces in :func:`add_interface_forces`.  Nodes with 3+
     materials lump the others into a virtual material (000 Sec 2.6, 004 Eq 50); rigid
-    fields follow 000 Eq 28-31.  In phase 1 the separation is advanced to the end of
+    fields follow 000 Eq 28-31, after the deformable fields at the node met each other.
+    (This wrapper's LR arrays carry no separate rigid separations: the time step's,
+    ``PairTables.lr_rigid_separation``, separate a field from a rigid body by the rigid
+    body's particles alone.)  In phase 1 the separation is advanced to the end of
     the step, delta + dt (v_b - v_a).  ``nodes`` (int64) restricts the work to those
     node indices (e.g. the core's list of nodes with 2+ fields); default all nodes.
     ``origin``, ``nn``: the grid's node 0 and node counts per axis (node positions, for
@@ -472,7 +475,7 @@ def correct_momentum(phase: int, mass: np.ndarray, momentum: np.ndarray, force: 
         np.asarray(cell, dtype=np.float64), origin, nn, _thickness_array(thickness, n),
         tables.law_kind, tables.law_params, tables.settings, tables.rigid, tables.node_zone,
         tables.zone_pairs, tables.zone_kind, tables.zone_params, lr_normal, lr_sep,
-        pair_normal, pair_sep, tables.df_curve, float(dt), _node_list(nodes, n))
+        pair_normal, pair_sep, np.zeros((0, m)), tables.df_curve, float(dt), _node_list(nodes, n))
 
 
 def _grid_geometry(tables: MultimaterialTables, origin, nn, n: int, d: int):
@@ -526,7 +529,7 @@ def add_interface_forces(mass: np.ndarray, momentum: np.ndarray, volume: np.ndar
         np.asarray(cell, dtype=np.float64), origin, nn, _thickness_array(thickness, n),
         tables.law_kind, tables.law_params, tables.settings, tables.rigid, tables.node_zone,
         tables.zone_pairs, tables.zone_kind, tables.zone_params, lr_normal, lr_sep,
-        tables.df_curve, float(dt), force, node_out, _node_list(nodes, n))
+        np.zeros((0, m)), tables.df_curve, float(dt), force, node_out, _node_list(nodes, n))
 
 
 def apply_velocity_conditions(mass: np.ndarray, momentum: np.ndarray, force: np.ndarray,

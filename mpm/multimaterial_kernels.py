@@ -565,19 +565,99 @@ def _two_pairs(i, act, act_code, act_mu, act_n, common, mass, mom, dp, touched) 
 
 
 @njit(cache=True)
+def _deformable_contact(i, phase, present, npres, mass, mom, force, vol, grad, disp, pos, cell,
+                        origin, nn, tvol, kind, params, settings, rigid, node_zone, zone_pairs,
+                        zone_kind, zone_params, lr_normal, lr_sep, pair_normal, pair_sep, df, dt,
+                        explicit, conserve, dp, touched, one, work, law) -> bool:
+    """Momentum changes ``dp`` of the ``npres`` deformable fields ``present`` at node i
+    against each other: two fields as a pair (000 Eq 7-16), three or more pair by pair
+    (004 Sec 3.4, Eq 49, ``explicit``) or each against the lump of the others (000 Sec 2.6,
+    004 Eq 50). Returns True if any field changed."""
+    d = mom.shape[2]
+    any_change = False
+    if npres < 2:
+        return False
+    if npres == 2:
+        # a field much lighter than its partner gets the change computed on its own
+        # side and the heavier one its negative: the stick change m_a v_c - p_a
+        # carries round-off of the size of |p_a|, which on a field holding only a
+        # round-off-sized GIMP weight (m ~ 1e-65 of its partner) gave velocities
+        # ~1e30 and a spurious damping dissipation of up to 1e7 N mm (an energy
+        # balance off by 20x on a 0.1 mm DLS)
+        a = present[0]
+        b = present[1]
+        if mass[i, b] < LIGHT_FIELD_RATIO * mass[i, a]:
+            a = present[1]
+            b = present[0]
+        code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+        if _interaction_dp(i, a, b, b, present, npres, phase, mass, mom, force, vol, grad, disp, pos,
+                           cell, origin, nn, tvol, code, law, settings, False, lr_normal, lr_sep, df,
+                           dt, one, work):
+            touched[a] = True
+            touched[b] = True
+            for k in range(d):
+                dp[a, k] = one[k]
+                dp[b, k] = -one[k]
+            return True
+        return False
+    if explicit and _explicit_three_plus(
+            i, phase, present, npres, mass, mom, vol, grad, disp, pos, cell, origin, nn, tvol,
+            kind, params, settings, node_zone, zone_pairs, zone_kind, zone_params, lr_normal,
+            lr_sep, pair_normal, pair_sep, df, dt, dp, touched, work, law) >= 0:
+        # 3+ materials, pair by pair (004 Sec 3.4, Eq 49)
+        for j in range(npres):
+            any_change = any_change or touched[present[j]]
+        return any_change
+    # 3+ materials: each against the virtual lump of all others (000 Sec 2.6, 004 Eq 50),
+    # law of the partner with the most volume
+    mtot = 0.0
+    for j in range(npres):
+        mtot += mass[i, present[j]]
+    for j in range(npres):
+        a = present[j]
+        b_law = _largest_partner(i, a, present, npres, vol, rigid)
+        code = _pair_law(i, a, b_law, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+        if _interaction_dp(i, a, -1, b_law, present, npres, phase, mass, mom, force, vol, grad,
+                           disp, pos, cell, origin, nn, tvol, code, law, settings, False,
+                           lr_normal, lr_sep, df, dt, one, work):
+            touched[a] = True
+            for k in range(d):
+                dp[a, k] = one[k]
+            any_change = True
+    if any_change and conserve:
+        # a common velocity shift restores sum dp = 0 without changing any
+        # relative velocity, hence without disturbing the contact laws
+        for k in range(d):
+            s = 0.0
+            for j in range(npres):
+                s += dp[present[j], k]
+            for j in range(npres):
+                c = present[j]
+                dp[c, k] -= mass[i, c] / mtot * s
+        for j in range(npres):
+            touched[present[j]] = True
+    return any_change
+
+
+@njit(cache=True)
 def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell, origin, nn, thick, kind,
                             params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
-                            lr_normal, lr_sep, pair_normal, pair_sep, df, dt, nodes) -> int:
-    """Contact corrections on all multimaterial nodes (see mpm.multimaterial.correct_momentum)."""
+                            lr_normal, lr_sep, pair_normal, pair_sep, lr_rigid_sep, df, dt,
+                            nodes) -> int:
+    """Contact corrections on all multimaterial nodes (see mpm.multimaterial.correct_momentum).
+    ``lr_rigid_sep``: LR separations of each field from the rigid fields (rows empty: the
+    separations ``lr_sep`` serve the rigid partners too)."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
     tol = settings[S_MASS_TOL]
     conserve = settings[S_LUMP_CONSERVE] != 0.0
     explicit = int(settings[S_THREE_MATERIAL]) == THREE_EXPLICIT
+    rigid_sep = lr_rigid_sep if lr_rigid_sep.shape[0] > 0 else lr_sep
     present = np.empty(m, dtype=np.int64)
     dp = np.zeros((m, d))
     touched = np.zeros(m, dtype=np.bool_)
     rigid_order = np.empty(m, dtype=np.int64)
+    deformable = np.empty(m, dtype=np.int64)
     law = np.empty(4)
     one = np.empty(d)
     work = np.empty((13, d))
@@ -593,24 +673,37 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
             touched[present[j]] = False
             for k in range(d):
                 dp[present[j], k] = 0.0
-        # rigid partners (000 Eq 28-31): each non-rigid field against every rigid field
-        # present, most volume first, each correction on the momentum left by the one
-        # before (at a corner of a wall and the piston both hold; against the largest
-        # alone the field left through the other)
+        # the deformable fields first, among themselves (at a node that also sees a rigid
+        # body they still meet each other: NairnMPM skips their contact there, and in
+        # 004 Fig 6 ellipses slid into each other along the walls and the piston), then
+        # each against every rigid field present (000 Eq 28-31), which have the last
+        # word: most volume first, each correction on the momentum left by the one before
+        # (at a corner of a wall and the piston both hold; against the largest alone the
+        # field left through the other)
         nrigid = _rigid_order(i, present, npres, vol, rigid, rigid_order)
-        any_change = False
+        ndef = 0
+        for j in range(npres):
+            if rigid[present[j]] == 0:
+                deformable[ndef] = present[j]
+                ndef += 1
+        any_change = _deformable_contact(
+            i, phase, deformable, ndef, mass, mom, force, vol, grad, disp, pos, cell, origin, nn,
+            tvol, kind, params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
+            lr_normal, lr_sep, pair_normal, pair_sep, df, dt, explicit, conserve, dp, touched,
+            one, work, law)
         if nrigid > 0:
-            for j in range(npres):
-                a = present[j]
-                if rigid[a] != 0:
-                    continue
+            for j in range(ndef):
+                a = deformable[j]
+                if touched[a]:
+                    for k in range(d):
+                        mom[i, a, k] += dp[a, k]     # the rigid corrections see it
                 for q in range(nrigid):
                     r = rigid_order[q]
                     code = _pair_law(i, a, r, kind, params, node_zone, zone_pairs, zone_kind, zone_params,
                                      law)
                     if _interaction_dp(i, a, r, r, present, npres, phase, mass, mom, force, vol, grad,
                                        disp, pos, cell, origin, nn, tvol, code, law, settings, True,
-                                       lr_normal, lr_sep, df, dt, one, work):
+                                       lr_normal, rigid_sep, df, dt, one, work):
                         touched[a] = True
                         any_change = True
                         for k in range(d):
@@ -619,64 +712,6 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
                 if touched[a]:
                     for k in range(d):
                         mom[i, a, k] -= dp[a, k]     # applied once, below, with f_C,1
-        elif npres == 2:
-            # a field much lighter than its partner gets the change computed on its own
-            # side and the heavier one its negative: the stick change m_a v_c - p_a
-            # carries round-off of the size of |p_a|, which on a field holding only a
-            # round-off-sized GIMP weight (m ~ 1e-65 of its partner) gave velocities
-            # ~1e30 and a spurious damping dissipation of up to 1e7 N mm (an energy
-            # balance off by 20x on a 0.1 mm DLS)
-            a = present[0]
-            b = present[1]
-            if mass[i, b] < LIGHT_FIELD_RATIO * mass[i, a]:
-                a = present[1]
-                b = present[0]
-            code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
-            if _interaction_dp(i, a, b, b, present, npres, phase, mass, mom, force, vol, grad, disp, pos,
-                               cell, origin, nn, tvol, code, law, settings, False, lr_normal, lr_sep, df,
-                               dt, one, work):
-                touched[a] = True
-                touched[b] = True
-                for k in range(d):
-                    dp[a, k] = one[k]
-                    dp[b, k] = -one[k]
-                any_change = True
-        elif explicit and _explicit_three_plus(
-                i, phase, present, npres, mass, mom, vol, grad, disp, pos, cell, origin, nn, tvol,
-                kind, params, settings, node_zone, zone_pairs, zone_kind, zone_params, lr_normal,
-                lr_sep, pair_normal, pair_sep, df, dt, dp, touched, work, law) >= 0:
-            # 3+ materials, pair by pair (004 Sec 3.4, Eq 49)
-            for j in range(npres):
-                any_change = any_change or touched[present[j]]
-        else:
-            # 3+ materials: each against the virtual lump of all others (000 Sec 2.6,
-            # 004 Eq 50), law of the partner with the most volume
-            mtot = 0.0
-            for j in range(npres):
-                mtot += mass[i, present[j]]
-            for j in range(npres):
-                a = present[j]
-                b_law = _largest_partner(i, a, present, npres, vol, rigid)
-                code = _pair_law(i, a, b_law, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
-                if _interaction_dp(i, a, -1, b_law, present, npres, phase, mass, mom, force, vol, grad,
-                                   disp, pos, cell, origin, nn, tvol, code, law, settings, False,
-                                   lr_normal, lr_sep, df, dt, one, work):
-                    touched[a] = True
-                    for k in range(d):
-                        dp[a, k] = one[k]
-                    any_change = True
-            if any_change and conserve:
-                # a common velocity shift restores sum dp = 0 without changing any
-                # relative velocity, hence without disturbing the contact laws
-                for k in range(d):
-                    s = 0.0
-                    for j in range(npres):
-                        s += dp[present[j], k]
-                    for j in range(npres):
-                        c = present[j]
-                        dp[c, k] -= mass[i, c] / mtot * s
-                for j in range(npres):
-                    touched[present[j]] = True
         if not any_change:
             continue
         count += 1
@@ -843,8 +878,9 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
 @njit(cache=True)
 def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, origin, nn, thick, kind,
                             params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
-                            lr_normal, lr_sep, df, dt, force, node_out, nodes) -> float:
-    """Interface forces on all multimaterial nodes (see mpm.multimaterial.add_interface_forces)."""
+                            lr_normal, lr_sep, lr_rigid_sep, df, dt, force, node_out, nodes) -> float:
+    """Interface forces on all multimaterial nodes (see mpm.multimaterial.add_interface_forces).
+    ``lr_rigid_sep`` as in :func:`correct_momentum_kernel`."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
     tol = settings[S_MASS_TOL]
@@ -852,6 +888,7 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
     write_out = node_out.shape[0] == n_nodes
     if write_out:
         node_out[:, :] = 0.0
+    rigid_sep = lr_rigid_sep if lr_rigid_sep.shape[0] > 0 else lr_sep
     present = np.empty(m, dtype=np.int64)
     fadd = np.zeros((m, d))
     law = np.empty(4)
@@ -885,7 +922,7 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
                     continue
                 total += _interface_force(i, a, r, r, present, npres, mass, mom, force, vol, area_vol,
                                           grad, disp, pos, cell, origin, nn, tvol, law, settings, True,
-                                          lr_normal, lr_sep, df, dt, one, node_out, write_out, work)
+                                          lr_normal, rigid_sep, df, dt, one, node_out, write_out, work)
                 for k in range(d):
                     fadd[a, k] = one[k]
         elif npres == 2:

@@ -25,6 +25,12 @@ same).  The unit normal a -> b is phi_(1..D)/|phi_(1..D)|; the separation is Eq 
 d_LR = min_{p in b}(X_p . n - R_p) - max_{p in a}(X_p . n + R_p), with R_p the distance
 from the particle centre to its inscribed (deformed) ellipse(oid) along n (Eq 25).
 
+At a node seen by two or more deformable fields and a rigid one, a deformable field's
+lump is the other deformable fields, and its separation from the rigid fields is a
+second regression against their particles alone (:func:`lr_kernel`): with the rigid
+body in the lump, two bodies meeting beside a wall had their plane tilted towards the
+wall and "touched" each other whenever one touched the wall.
+
 Results go to ``normal[N, M, D]`` (normal from field k to the others at node i; zero
 where not computed, then the kernels fall back to MVG) and ``separation[N, M]`` (NaN
 where not computed, then the kernels fall back to the displacement separation).
@@ -404,19 +410,29 @@ def _gather_cloud(i, ring, x, field, order, start, origin, cell, nn, idx_out) ->
     return cnt
 
 
+#: class +1 against material a: every other material present at the node (004 Eq 50),
+#: the other deformable ones, or the rigid ones (codes for ``b`` < 0)
+LUMP_ALL = -1
+LUMP_DEFORMABLE = -2
+LUMP_RIGID = -3
+
+
 @njit(cache=True, inline="always")
-def _in_class_b(f, a, b, mass, i, tol, mtot) -> bool:
+def _in_class_b(f, a, b, rigid, mass, i, tol, mtot) -> bool:
     """Particle field ``f`` belongs to class +1 against material ``a``: the material ``b``,
-    or (``b`` < 0) any other material present at node i (the lump of 004 Eq 50)."""
+    or (``b`` < 0) another material present at node i: any (``LUMP_ALL``, the lump of
+    004 Eq 50), a deformable one (``LUMP_DEFORMABLE``) or a rigid one (``LUMP_RIGID``)."""
     if f == a:
         return False
     if b >= 0:
         return f == b
+    if b == LUMP_DEFORMABLE and rigid[f] != 0 or b == LUMP_RIGID and rigid[f] == 0:
+        return False
     return mass[i, f] > tol * mtot
 
 
 @njit(cache=True)
-def _class_counts(cloud, field, a, b, mass, i, tol, mtot):
+def _class_counts(cloud, field, a, b, rigid, mass, i, tol, mtot):
     """Points of class -1 (material a) and +1 (b, or the lump of the others) in ``cloud``."""
     na = 0
     nb = 0
@@ -424,13 +440,13 @@ def _class_counts(cloud, field, a, b, mass, i, tol, mtot):
         f = field[cloud[q]]
         if f == a:
             na += 1
-        elif _in_class_b(f, a, b, mass, i, tol, mtot):
+        elif _in_class_b(f, a, b, rigid, mass, i, tol, mtot):
             nb += 1
     return na, nb
 
 
 @njit(cache=True)
-def _flat_cloud(cloud, x, field, a, b, mass, i, tol, mtot, dx) -> bool:
+def _flat_cloud(cloud, x, field, a, b, rigid, mass, i, tol, mtot, dx) -> bool:
     """Does the two-class cloud lie (nearly) in a line (2D) or plane (3D)?  Its smallest
     principal spread below LR_FLAT cells: a plane fitted to it is ill-posed, its normal
     swinging with the points' small sideways offsets (a node beyond a body's free side
@@ -441,7 +457,7 @@ def _flat_cloud(cloud, x, field, a, b, mass, i, tol, mtot, dx) -> bool:
     n = 0
     for q in range(cloud.shape[0]):
         p = cloud[q]
-        if field[p] == a or _in_class_b(field[p], a, b, mass, i, tol, mtot):
+        if field[p] == a or _in_class_b(field[p], a, b, rigid, mass, i, tol, mtot):
             n += 1
             for k in range(d):
                 mean[k] += x[p, k]
@@ -449,7 +465,7 @@ def _flat_cloud(cloud, x, field, a, b, mass, i, tol, mtot, dx) -> bool:
         mean[k] /= n
     for q in range(cloud.shape[0]):
         p = cloud[q]
-        if field[p] == a or _in_class_b(field[p], a, b, mass, i, tol, mtot):
+        if field[p] == a or _in_class_b(field[p], a, b, rigid, mass, i, tol, mtot):
             for j in range(d):
                 for k in range(d):
                     cov[j, k] += (x[p, j] - mean[j]) * (x[p, k] - mean[k]) / (n * dx * dx)
@@ -462,28 +478,28 @@ def _flat_cloud(cloud, x, field, a, b, mass, i, tol, mtot, dx) -> bool:
 
 
 @njit(cache=True)
-def _cloud_plane(i, a, b, xi, cloud, check_flat, wide, x, field, r0, F, has_F, mass, mtot, tol,
-                 order, start, origin, cell, nn, idx, xs, cls, nvec) -> float:
+def _cloud_plane(i, a, b, xi, cloud, check_flat, wide, x, field, r0, F, has_F, rigid, mass, mtot,
+                 tol, order, start, origin, cell, nn, idx, xs, cls, nvec) -> float:
     """LR plane at node i between material ``a`` (class -1) and ``b`` (class +1; ``b`` < 0:
-    the lump of all other present materials) from the node's point cloud ``cloud``
+    a lump of other present materials, :func:`_in_class_b`) from the node's point cloud ``cloud``
     (the particles of the 4^D cells around the node, gathered into ``wide``, where a
     class has fewer than LR_MIN_POINTS points there or, ``check_flat``, the cloud is
     flat): writes the unit normal a -> b to
     ``nvec`` and returns d_LR (Eq 24), or NaN when there is no two-class cloud or the
     regression is singular. Coordinates are taken relative to the node ``xi`` in cells."""
     d = x.shape[1]
-    na, nb = _class_counts(cloud, field, a, b, mass, i, tol, mtot)
+    na, nb = _class_counts(cloud, field, a, b, rigid, mass, i, tol, mtot)
     if na < LR_MIN_POINTS or nb < LR_MIN_POINTS or (
-            check_flat and _flat_cloud(cloud, x, field, a, b, mass, i, tol, mtot, cell[0])):
+            check_flat and _flat_cloud(cloud, x, field, a, b, rigid, mass, i, tol, mtot, cell[0])):
         cloud = wide[:_gather_cloud(i, 2, x, field, order, start, origin, cell, nn, wide)]
-        na, nb = _class_counts(cloud, field, a, b, mass, i, tol, mtot)
+        na, nb = _class_counts(cloud, field, a, b, rigid, mass, i, tol, mtot)
     if na == 0 or nb == 0:
         return np.nan
     npts = 0
     for q in range(cloud.shape[0]):
         p = cloud[q]
         f = field[p]
-        if f != a and not _in_class_b(f, a, b, mass, i, tol, mtot):
+        if f != a and not _in_class_b(f, a, b, rigid, mass, i, tol, mtot):
             continue          # material absent from this node or not of the pair
         for k in range(d):
             xs[npts, k] = (x[p, k] - xi[k]) / cell[0]
@@ -514,14 +530,22 @@ def pair_index(a, b, m) -> int:
 
 
 @njit(cache=True)
-def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, normal,
-              separation, pair_normal, pair_separation) -> int:
+def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, rigid, normal,
+              separation, pair_normal, pair_separation, rigid_separation) -> int:
     """LR normal and separation for every node in ``nodes`` and every present field
     (against the lump of the others); with ``pair_normal`` rows (option three_material =
     explicit), also for every pair a < b of the materials present at nodes seen by 3+
     materials (normal a -> b in ``pair_normal[i, pair_index(a, b, m)]``). ``kind`` is the
     run's shape function (mpm.shape codes): it sets each node's point cloud (module
-    docstring); ``has_F``: ``F`` deforms the radii R_p of Eq 25 and the CPDI domains."""
+    docstring); ``has_F``: ``F`` deforms the radii R_p of Eq 25 and the CPDI domains.
+
+    Rigid fields (``rigid[f]`` != 0; ``rigid_separation`` rows present): at a node seen by
+    two or more deformable fields and a rigid one, a deformable field's lump is the other
+    deformable fields (the rigid body's particles would tilt the plane between two
+    bodies meeting beside a wall towards the wall, and make them touch whenever one
+    touches the wall), and its separation from the rigid fields (Eq 24 with the lump of
+    the rigid fields as class +1) goes to ``rigid_separation[i, a]``; the contact with a
+    rigid body takes its normal from the rigid body itself."""
     n_nodes, m = mass.shape
     d = x.shape[1]
     normal[:, :, :] = 0.0
@@ -548,6 +572,9 @@ def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, 
     nvec = np.empty(d)
     present = np.empty(m, dtype=np.int64)
     xi = np.empty(d)
+    with_rigid = rigid_separation.shape[0] > 0
+    if with_rigid:
+        rigid_separation[:, :] = np.nan
     solved = 0
     for ii in range(nodes.shape[0]):
         i = nodes[ii]
@@ -555,12 +582,16 @@ def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, 
         for k in range(m):
             mtot += mass[i, k]
         npres = 0
+        ndef = 0
         for k in range(m):
             if mass[i, k] > tol * mtot and mass[i, k] > 0.0:
                 present[npres] = k
                 npres += 1
+                if rigid[k] == 0:
+                    ndef += 1
         if npres < 2:
             continue
+        split = with_rigid and 2 <= ndef < npres      # deformable fields meet beside a rigid one
         rem = i
         for k in range(d):
             xi[k] = origin[k] + (rem % nn[k]) * cell[k]
@@ -572,19 +603,30 @@ def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, 
         n_solve = 1 if npres == 2 else npres
         for jj in range(n_solve):
             a = present[jj]
-            dlr = _cloud_plane(i, a, -1, xi, cloud, support, wide, x, field, r0, F, has_F, mass,
-                               mtot, tol, order, start, origin, cell, nn, idx, xs, cls, nvec)
-            if math.isnan(dlr):
-                continue
-            for k in range(d):
-                normal[i, a, k] = nvec[k]
-            separation[i, a] = dlr
-            if npres == 2:
-                b = present[1]
+            if split and rigid[a] != 0:
+                continue                     # rigid fields take no contact correction
+            lump = LUMP_DEFORMABLE if split else LUMP_ALL
+            dlr = _cloud_plane(i, a, lump, xi, cloud, support, wide, x, field, r0, F, has_F,
+                               rigid, mass, mtot, tol, order, start, origin, cell, nn, idx, xs,
+                               cls, nvec)
+            if not math.isnan(dlr):
                 for k in range(d):
-                    normal[i, b, k] = -nvec[k]
-                separation[i, b] = dlr
-            solved += 1
+                    normal[i, a, k] = nvec[k]
+                separation[i, a] = dlr
+                if npres == 2:
+                    b = present[1]
+                    for k in range(d):
+                        normal[i, b, k] = -nvec[k]
+                    separation[i, b] = dlr
+                solved += 1
+            if split:
+                rigid_separation[i, a] = _cloud_plane(
+                    i, a, LUMP_RIGID, xi, cloud, support, wide, x, field, r0, F, has_F, rigid,
+                    mass, mtot, tol, order, start, origin, cell, nn, idx, xs, cls, nvec)
+            elif with_rigid:
+                rigid_separation[i, a] = dlr
+                if npres == 2:
+                    rigid_separation[i, present[1]] = dlr
         if not pairs or npres < 3:
             continue
         for ja in range(npres):
@@ -592,8 +634,8 @@ def lr_kernel(x, field, r0, F, has_F, kind, origin, cell, nn, mass, nodes, tol, 
                 a = present[ja]
                 b = present[jb]
                 dlr = _cloud_plane(i, a, b, xi, cloud, support, wide, x, field, r0, F, has_F,
-                                   mass, mtot, tol, order, start, origin, cell, nn, idx, xs,
-                                   cls, nvec)
+                                   rigid, mass, mtot, tol, order, start, origin, cell, nn, idx,
+                                   xs, cls, nvec)
                 if math.isnan(dlr):
                     continue
                 slot = pair_index(a, b, m)
@@ -642,5 +684,6 @@ def lr_normals_separations(x: np.ndarray, field: np.ndarray, half_width: np.ndar
     lr_kernel(x, np.ascontiguousarray(field, dtype=np.int64), r0, F_arr, has_F,
               SHAPE_CODES[shape], np.asarray(origin, dtype=np.float64),
               np.asarray(cell, dtype=np.float64), np.asarray(nn, dtype=np.int64), mass, np.ascontiguousarray(nodes, dtype=np.int64),
-              float(mass_tolerance), out[0], out[1], np.zeros((0, 0, d)), np.zeros((0, 0)))
+              float(mass_tolerance), np.zeros(m, dtype=np.int64), out[0], out[1],
+              np.zeros((0, 0, d)), np.zeros((0, 0)), np.zeros((0, m)))
     return out

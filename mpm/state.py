@@ -99,7 +99,8 @@ class PairTables(NamedTuple):
     reference; empty: the current volumes), the DF edge-distance table d(s) of 004
     Eq 15 (separation = DF; empty otherwise) and, with LR and three_material = explicit,
     the LR normals and separations of every material pair at nodes seen by 3+ materials
-    (004 Sec 3.4; slot :func:`mpm.multimaterial_lr.pair_index`)."""
+    (004 Sec 3.4; slot :func:`mpm.multimaterial_lr.pair_index`), and with LR and rigid
+    bodies each field's separation from the rigid fields (:func:`mpm.multimaterial_lr.lr_kernel`)."""
     thickness: np.ndarray
     law_kind: np.ndarray
     law_params: np.ndarray
@@ -116,6 +117,7 @@ class PairTables(NamedTuple):
     df_curve: np.ndarray
     lr_pair_normal: np.ndarray      # [N, M (M - 1) / 2, D]: LR per pair at 3+ nodes (three_material = explicit)
     lr_pair_separation: np.ndarray  # [N, M (M - 1) / 2] (zero rows otherwise)
+    lr_rigid_separation: np.ndarray  # [N, M]: LR separation of each field from the rigid fields (LR with rigid bodies)
 
 
 class Blocks(NamedTuple):
@@ -210,7 +212,8 @@ def pair_tables(tables, node_out, thickness, N: int, M: int, D: int,
                           np.zeros(N_SETTINGS), np.zeros(M, np.int64), np.zeros(0, np.int64),
                           np.zeros((0, 2), np.int64), np.zeros(0, np.int64),
                           np.zeros((0, N_PARAMS)), np.zeros((0, NODE_OUT_COLUMNS)), np.zeros((0, M, D)),
-                          np.zeros((0, M)), area, np.zeros(0), np.zeros((0, 0, D)), np.zeros((0, 0)))
+                          np.zeros((0, M)), area, np.zeros(0), np.zeros((0, 0, D)), np.zeros((0, 0)),
+                          np.zeros((0, M)))
     n_lr = N if tables.uses_lr else 0
     if node_out is None:
         node_out = np.zeros((0, NODE_OUT_COLUMNS))
@@ -219,7 +222,8 @@ def pair_tables(tables, node_out, thickness, N: int, M: int, D: int,
     return PairTables(thick, tables.law_kind, tables.law_params, tables.settings, tables.rigid,
                       tables.node_zone, tables.zone_pairs, tables.zone_kind, tables.zone_params,
                       node_out, tables.node_normals(N, D), np.zeros((n_lr, M)), area, tables.df_curve,
-                      np.zeros((n_pair, n_pairs, D)), np.zeros((n_pair, n_pairs)))
+                      np.zeros((n_pair, n_pairs, D)), np.zeros((n_pair, n_pairs)),
+                      np.zeros((n_lr if tables.rigid.any() else 0, M)))
 
 
 def blocks(buffers) -> Blocks:

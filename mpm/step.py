@@ -122,8 +122,8 @@ def phase_lr(ctl, pt, grid, nd, pairs, nodes) -> None:
     if ctl.uses_lr and nodes.size:
         lr_kernel(pt.x, pt.field, pt.half_width, pt.F, ctl.finite_strain or is_cpdi(grid.kind),
                   grid.kind, grid.origin, grid.cell, grid.nn, nd.mass, nodes,
-                  ctl.mass_tolerance, pairs.lr_normal, pairs.lr_separation, pairs.lr_pair_normal,
-                  pairs.lr_pair_separation)
+                  ctl.mass_tolerance, pairs.rigid, pairs.lr_normal, pairs.lr_separation,
+                  pairs.lr_pair_normal, pairs.lr_pair_separation, pairs.lr_rigid_separation)
 
 
 @njit(cache=True, inline="always")
@@ -137,7 +137,7 @@ def phase_contact(phase, ctl, grid, nd, pairs, nodes) -> None:
                             pairs.law_params, pairs.settings, pairs.rigid, pairs.node_zone,
                             pairs.zone_pairs, pairs.zone_kind, pairs.zone_params, pairs.lr_normal,
                             pairs.lr_separation, pairs.lr_pair_normal, pairs.lr_pair_separation,
-                            pairs.df_curve, ctl.dt, nodes)
+                            pairs.lr_rigid_separation, pairs.df_curve, ctl.dt, nodes)
 
 
 @njit(cache=True, inline="always")
@@ -208,7 +208,8 @@ def phase_interface_forces(ctl, t, grid, nd, pairs, nodes, over_limit) -> float:
                                     pairs.law_kind, pairs.law_params, pairs.settings,
                                     pairs.rigid, pairs.node_zone, pairs.zone_pairs,
                                     pairs.zone_kind, pairs.zone_params, pairs.lr_normal,
-                                    pairs.lr_separation, pairs.df_curve, ctl.dt, nd.force,
+                                    pairs.lr_separation, pairs.lr_rigid_separation,
+                                    pairs.df_curve, ctl.dt, nd.force,
                                     pairs.node_out, nodes)
     if ctl.check_limit:
         over = _count_over_limit(pairs.node_out, nodes)

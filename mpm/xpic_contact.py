@@ -132,7 +132,7 @@ def contact_grid_velocity(vs, mass, vol, grad, disp, pos, cell, origin, nn, pair
         1, mass, mom, force, vol, grad, disp, pos, cell, origin, nn, pairs.thickness, kind, params,
         pairs.settings, pairs.rigid, pairs.node_zone, pairs.zone_pairs, zone_kind, zone_params,
         pairs.lr_normal, pairs.lr_separation, pairs.lr_pair_normal, pairs.lr_pair_separation,
-        pairs.df_curve, dt, nodes)
+        pairs.lr_rigid_separation, pairs.df_curve, dt, nodes)
     for q in range(nodes.size):
         i = nodes[q]
         for f in range(M):

@@ -363,6 +363,28 @@ def test_field_in_a_corner_of_two_rigid_bodies_is_held_by_both(normal):
     np.testing.assert_allclose(velocities(s)[0, 1:], [(0.0, 0.0), (0.0, -1.0)], atol=1e-15)
 
 
+
+def test_two_fields_beside_a_rigid_body_still_meet_each_other():
+    """A node seen by two deformable fields closing on each other along x (field 0 moving
+    +x at 2, field 1 -x at 1, outward gradients +-x) and a fixed rigid floor below them
+    (its outward gradient +y). Frictionless contact everywhere: the pair takes its common
+    normal velocity (0.5, by momentum with equal masses), then each field sits on the
+    floor (v_y = 0). Skipping the pair at nodes that see a rigid body (as NairnMPM does)
+    let the two fields pass through each other there: ellipses slid into each other
+    along the walls and the piston of 004 Fig 6."""
+    case = make_case(3, [(0, 1, CoulombFriction(0.0)), (0, 2, CoulombFriction(0.0)),
+                         (1, 2, CoulombFriction(0.0))])
+    tables = mm.build_pair_tables(case, {"normal": "AG", "separation": "velocity",
+                                         "rigid_bodies": ["b2"]})
+    s = nodal(1, 3, 2)
+    s["mass"][0] = 1.0
+    s["volume"][0] = (0.3, 0.3, 0.4)
+    s["volume_gradient"][0] = [(1.0, -0.1), (-1.0, -0.1), (0.0, 1.0)]
+    s["momentum"][0] = [(2.0, -0.5), (-1.0, -0.3), (0.0, 0.0)]
+    correct(1, s, tables)
+    np.testing.assert_allclose(velocities(s)[0], [(0.5, 0.0), (0.5, 0.0), (0.0, 0.0)], atol=1e-12)
+
+
 # ---------------------------------------------------------------- interface forces
 
 

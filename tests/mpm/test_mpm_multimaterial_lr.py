@@ -261,3 +261,33 @@ def test_particle_radius_is_the_distance_to_the_deformed_domain_ellipse(d):
         assert miss(a) < 1e-12
         distance = np.linalg.norm(F[p] @ (r0[p] * unit(a)))
         assert _particle_radius(n, r0, F, p, True) == pytest.approx(distance, rel=1e-6)
+
+
+def test_bodies_meeting_beside_a_rigid_floor_are_separated_from_each_other():
+    """Blocks a (left) and b (right), 0.2 apart, both 0.15 above a rigid floor. At the node
+    between them on the floor all three are present. A deformable field's lump is the
+    other deformable fields there: the a -> b plane is the vertical mid-line (normal
+    (1, 0), separation 0.2, by symmetry), and a's separation from the floor is kept
+    apart (Eq 24 against the floor's particles alone). With the floor in a's lump the
+    plane tilted towards the floor and a 'touched' b whenever it touched the floor."""
+    from mpm.multimaterial_lr import lr_kernel
+    from mpm.shape import SHAPE_CODES
+    a = block(-3, 0, 0, 3, H) + (-0.1, 0.15)
+    b = block(0, 0, 3, 3, H) + (0.1, 0.15)
+    floor = block(-3, -3, 3, 0, H)
+    x = np.vstack([a, b, floor])
+    field = np.repeat(np.arange(3), [len(a), len(b), len(floor)]).astype(np.int64)
+    mass, _ = extrapolate(x, field, 3, GRID["origin"], GRID["cell"], GRID["nn"], H)
+    node = 5 + 11 * 5                                     # node at (0, 0)
+    assert np.all(mass[node] > 0.0)
+    n, m = mass.shape
+    normal, sep, rigid_sep = np.zeros((n, m, 2)), np.zeros((n, m)), np.zeros((n, m))
+    lr_kernel(x, field, np.full((len(x), 2), H / 2), np.zeros((1, 2, 2)), False, SHAPE_CODES["ugimp"],
+              GRID["origin"], GRID["cell"], GRID["nn"], mass, np.array([node]), 0.0,
+              np.array([0, 0, 1]), normal, sep, np.zeros((0, 0, 2)), np.zeros((0, 0)), rigid_sep)
+    np.testing.assert_allclose(normal[node, 0], (1.0, 0.0), atol=1e-9)
+    np.testing.assert_allclose(normal[node, 1], (-1.0, 0.0), atol=1e-9)
+    np.testing.assert_allclose(sep[node, :2], 0.2, atol=1e-9)
+    assert np.isnan(sep[node, 2]) and np.isnan(rigid_sep[node, 2])     # the floor takes no correction
+    # the vertical gap is 0.15; the a-floor plane tilts a little (a on one side of the cloud)
+    np.testing.assert_allclose(rigid_sep[node, :2], 0.15, atol=0.015)
