@@ -564,6 +564,20 @@ def _two_pairs(i, act, act_code, act_mu, act_n, common, mass, mom, dp, touched) 
     touched[common] = True
 
 
+@njit(cache=True, inline="always")
+def _restore_sum(i, present, npres, mass, mtot, dp) -> None:
+    """Lumped 3+ nodes: a common velocity shift (each field's share m_c / m_total of the
+    sum) that restores sum dp = 0 over the ``present`` fields without changing any
+    relative velocity, hence without disturbing the contact laws."""
+    for k in range(dp.shape[1]):
+        s = 0.0
+        for j in range(npres):
+            s += dp[present[j], k]
+        for j in range(npres):
+            c = present[j]
+            dp[c, k] -= mass[i, c] / mtot * s
+
+
 @njit(cache=True)
 def _deformable_contact(i, phase, present, npres, mass, mom, force, vol, grad, disp, pos, cell,
                         origin, nn, tvol, kind, params, settings, rigid, node_zone, zone_pairs,
@@ -625,15 +639,7 @@ def _deformable_contact(i, phase, present, npres, mass, mom, force, vol, grad, d
                 dp[a, k] = one[k]
             any_change = True
     if any_change and conserve:
-        # a common velocity shift restores sum dp = 0 without changing any
-        # relative velocity, hence without disturbing the contact laws
-        for k in range(d):
-            s = 0.0
-            for j in range(npres):
-                s += dp[present[j], k]
-            for j in range(npres):
-                c = present[j]
-                dp[c, k] -= mass[i, c] / mtot * s
+        _restore_sum(i, present, npres, mass, mtot, dp)
         for j in range(npres):
             touched[present[j]] = True
     return any_change
@@ -653,6 +659,7 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
     conserve = settings[S_LUMP_CONSERVE] != 0.0
     explicit = int(settings[S_THREE_MATERIAL]) == THREE_EXPLICIT
     rigid_sep = lr_rigid_sep if lr_rigid_sep.shape[0] > 0 else lr_sep
+    beside_rigid = int(settings[S_SEPARATION]) == SEP_LR
     present = np.empty(m, dtype=np.int64)
     dp = np.zeros((m, d))
     touched = np.zeros(m, dtype=np.bool_)
@@ -673,24 +680,28 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
             touched[present[j]] = False
             for k in range(d):
                 dp[present[j], k] = 0.0
-        # the deformable fields first, among themselves (at a node that also sees a rigid
-        # body they still meet each other: NairnMPM skips their contact there, and in
-        # 004 Fig 6 ellipses slid into each other along the walls and the piston), then
-        # each against every rigid field present (000 Eq 28-31), which have the last
-        # word: most volume first, each correction on the momentum left by the one before
-        # (at a corner of a wall and the piston both hold; against the largest alone the
-        # field left through the other)
+        # the deformable fields first, among themselves, then each against every rigid
+        # field present (000 Eq 28-31), which have the last word: most volume first, each
+        # correction on the momentum left by the one before (at a corner of a wall and the
+        # piston both hold; against the largest alone the field left through the other).
+        # Beside a rigid body the deformable fields meet each other with LR separations
+        # only (``beside_rigid``): NairnMPM skips their contact there, which let the
+        # ellipses of 004 Fig 6 slide into each other along the walls and the piston; with
+        # DF separations the same order lost a particle at a floor corner (docs/mpm.md,
+        # "Bodies meeting beside a rigid body"), so grid separations keep NairnMPM's rule
         nrigid = _rigid_order(i, present, npres, vol, rigid, rigid_order)
         ndef = 0
         for j in range(npres):
             if rigid[present[j]] == 0:
                 deformable[ndef] = present[j]
                 ndef += 1
-        any_change = _deformable_contact(
-            i, phase, deformable, ndef, mass, mom, force, vol, grad, disp, pos, cell, origin, nn,
-            tvol, kind, params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
-            lr_normal, lr_sep, pair_normal, pair_sep, df, dt, explicit, conserve, dp, touched,
-            one, work, law)
+        any_change = False
+        if nrigid == 0 or beside_rigid:
+            any_change = _deformable_contact(
+                i, phase, deformable, ndef, mass, mom, force, vol, grad, disp, pos, cell, origin,
+                nn, tvol, kind, params, settings, rigid, node_zone, zone_pairs, zone_kind,
+                zone_params, lr_normal, lr_sep, pair_normal, pair_sep, df, dt, explicit, conserve,
+                dp, touched, one, work, law)
         if nrigid > 0:
             for j in range(ndef):
                 a = deformable[j]
@@ -962,13 +973,7 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
             if write_out and any_force:
                 node_out[i, OUT_ENERGY] = 0.5 * e_node
             if any_force and conserve:
-                for k in range(d):
-                    s = 0.0
-                    for j in range(npres):
-                        s += fadd[present[j], k]
-                    for j in range(npres):
-                        c = present[j]
-                        fadd[c, k] -= mass[i, c] / mtot * s
+                _restore_sum(i, present, npres, mass, mtot, fadd)
         for j in range(npres):
             c = present[j]
             for k in range(d):

@@ -364,26 +364,32 @@ def test_field_in_a_corner_of_two_rigid_bodies_is_held_by_both(normal):
 
 
 
-def test_two_fields_beside_a_rigid_body_still_meet_each_other():
+@pytest.mark.parametrize("separation", ["LR", "velocity"])
+def test_two_fields_beside_a_rigid_body_meet_each_other_with_lr(separation):
     """A node seen by two deformable fields closing on each other along x (field 0 moving
-    +x at 2, field 1 -x at 1, outward gradients +-x) and a fixed rigid floor below them
-    (its outward gradient +y). Frictionless contact everywhere: the pair takes its common
-    normal velocity (0.5, by momentum with equal masses), then each field sits on the
-    floor (v_y = 0). Skipping the pair at nodes that see a rigid body (as NairnMPM does)
-    let the two fields pass through each other there: ellipses slid into each other
-    along the walls and the piston of 004 Fig 6."""
+    +x at 2, field 1 -x at 1, outward gradients +-x, LR normals +-x, LR separation
+    -0.01) and a fixed rigid floor below them (its outward gradient +y). Frictionless
+    contact everywhere. With LR separations the pair takes its common normal velocity
+    (0.5, by momentum with equal masses), then each field sits on the floor (v_y = 0):
+    skipping the pair at nodes that see a rigid body (NairnMPM's rule) let the ellipses
+    of 004 Fig 6 pass through each other along the walls and the piston. With grid
+    separations NairnMPM's rule is kept (docs/mpm.md): only the floor acts."""
     case = make_case(3, [(0, 1, CoulombFriction(0.0)), (0, 2, CoulombFriction(0.0)),
                          (1, 2, CoulombFriction(0.0))])
-    tables = mm.build_pair_tables(case, {"normal": "AG", "separation": "velocity",
+    normal = "LR" if separation == "LR" else "AG"
+    tables = mm.build_pair_tables(case, {"normal": normal, "separation": separation,
                                          "rigid_bodies": ["b2"]})
     s = nodal(1, 3, 2)
     s["mass"][0] = 1.0
     s["volume"][0] = (0.3, 0.3, 0.4)
     s["volume_gradient"][0] = [(1.0, -0.1), (-1.0, -0.1), (0.0, 1.0)]
     s["momentum"][0] = [(2.0, -0.5), (-1.0, -0.3), (0.0, 0.0)]
-    correct(1, s, tables)
-    np.testing.assert_allclose(velocities(s)[0], [(0.5, 0.0), (0.5, 0.0), (0.0, 0.0)], atol=1e-12)
-
+    lr = (np.array([[(1.0, 0.0), (-1.0, 0.0), (0.0, 0.0)]]), np.array([[-0.01, -0.01, np.nan]]))
+    mm.correct_momentum(1, s["mass"], s["momentum"], s["force"], s["volume"], s["volume_gradient"],
+                        s["displacement"], s["position"], s["cell"], tables, 1e-3, 1.0,
+                        lr=lr if separation == "LR" else None)
+    vx = (0.5, 0.5) if separation == "LR" else (2.0, -1.0)
+    np.testing.assert_allclose(velocities(s)[0], [(vx[0], 0.0), (vx[1], 0.0), (0.0, 0.0)], atol=1e-12)
 
 # ---------------------------------------------------------------- interface forces
 
