@@ -13,7 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .kernels import UPDATE_CODES
-from .multimaterial_constants import NODE_OUT_COLUMNS
+from .multimaterial_constants import NODE_OUT_COLUMNS, S_SEPARATION, SEP_LR
 
 
 class ParticleState(NamedTuple):
@@ -223,7 +223,8 @@ def pair_tables(tables, node_out, thickness, N: int, M: int, D: int,
                       tables.node_zone, tables.zone_pairs, tables.zone_kind, tables.zone_params,
                       node_out, tables.node_normals(N, D), np.zeros((n_lr, M)), area, tables.df_curve,
                       np.zeros((n_pair, n_pairs, D)), np.zeros((n_pair, n_pairs)),
-                      np.zeros((n_lr if tables.rigid.any() else 0, M)))
+                      np.zeros((n_lr if tables.rigid.any() and tables.settings[S_SEPARATION] == SEP_LR
+                                else 0, M)))
 
 
 def blocks(buffers) -> Blocks:
