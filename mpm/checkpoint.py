@@ -5,7 +5,7 @@ The state is what the compiled step does not rebuild every step (mpm/LAYOUT.md: 
 nodal fields are zeroed and re-extrapolated each step): the particle arrays that
 change (positions, velocities, stresses, strains, volumes, deformation gradients and
 the loaded-edge offsets they carry), the run's clock and
-history, the adaptive damping and time limit, the last interval's snapshot (Rayleigh
+history, the adaptive damping, time step and time limit, the last interval's snapshot (Rayleigh
 period), the gauges and the VTK frames. A resumed run repeats the uninterrupted one
 bit for bit: the output intervals, hence the damping updates, fall on the same steps.
 
@@ -62,6 +62,7 @@ def save(path: str | os.PathLike, model, runner) -> None:
     scalars = {"fingerprint": fingerprint(model.case, model.opts), "t": runner.t,
                "steps": runner.steps, "wall": runner.wall(), "over_limit": list(runner.over_limit),
                "period": model.period, "alpha": model.alpha, "max_time": model.max_time,
+               "dt": model.dt,
                "frame_times": [t for t, _, _ in runner.frames],
                "frame_fields": [list(f) for _, _, f in runner.frames]}
     arrays["scalars"] = np.frombuffer(json.dumps(scalars).encode(), dtype=np.uint8)
@@ -113,3 +114,5 @@ def load(path: str | os.PathLike, model, runner) -> None:
                                                         scalars["frame_fields"]))]
     model.period, model.alpha = float(scalars["period"]), float(scalars["alpha"])
     model.max_time = float(scalars["max_time"])
+    # runs with finite-strain fields set dt from the state between chunks
+    model.dt = float(scalars.get("dt", model.dt))         # absent in older checkpoints

@@ -121,6 +121,17 @@ def volumetric_terms(J, K, code):
     return 0.5 * K * (0.5 * (J * J - 1.0) - math.log(J)), 0.5 * K * (J - 1.0 / J)
 
 
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def volumetric_stiffness(J, K, code):
+    """J^2 U''(J) of the volumetric term ``code``: the bulk term of the acoustic tensor
+    (:mod:`mpm.signal_speed`; K at rest for every code)."""
+    if code == U_J_MINUS_1_SQUARED:
+        return K * J * J
+    if code == U_LN_J_SQUARED:
+        return K * (1.0 - math.log(J))
+    return 0.5 * K * (J * J + 1.0)
+
+
 @njit(cache=True, inline="always")
 def _right_cauchy_green(F, i, j):
     """C_ij = sum_k F_ki F_kj."""

@@ -24,9 +24,9 @@ of Eq 52 in compression. Per particle, with eta = 1 - J (compression positive):
   part of e), so the run's total energy stays conserved.
 
 The per-particle state ``eos[p] = (e, P)`` (MPa) carries e and the last total pressure.
-Time step: :func:`max_signal_speed` gives the largest wave speed of the current state
-(longitudinal speed, viscous term and particle speed), from which the solver sets dt
-between compiled chunks of steps.
+Time step: :func:`mpm.signal_speed.max_signal_speed` gives the largest wave speed of the
+current state (longitudinal speed with C as the bulk term, viscous term and particle
+speed), from which the solver sets dt between compiled chunks of steps.
 """
 from __future__ import annotations
 
@@ -110,36 +110,3 @@ def determinant(A):
     return (A[0, 0] * (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1])
             - A[0, 1] * (A[1, 0] * A[2, 2] - A[1, 2] * A[2, 0])
             + A[0, 2] * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]))
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def max_signal_speed(F, eos, velgrad, v, field, kind, params, mie_gruneisen) -> float:
-    """Largest signal speed (mm/s) over the particles of kind ``mie_gruneisen`` for the
-    explicit time step dt = cfl dx / speed: c_q + sqrt(c_q^2 + c_L^2) + |v| (the usual
-    bound with a viscous pressure, c_q = A1 C + A2 dx |D_kk|), with c_L^2 = C^2 +
-    4 G J^(-2/3) / (3 rho0) the longitudinal speed of the current state (C from
-    :func:`bulk_wave_speed` at the last pressure, the neo-Hookean shear stiffened by
-    compression) and D_kk the trace of the particle's last velocity gradient
-    (``velgrad`` with zero rows: none). 0 when the run has no such particle."""
-    best = 0.0
-    for p in range(field.shape[0]):
-        f = field[p]
-        if kind[f] != mie_gruneisen:
-            continue
-        prm = params[f]
-        J = determinant(F[p])
-        rho0 = prm[P_RHO0]
-        C = bulk_wave_speed(J, max(eos[p, E_PRESSURE], 0.0), prm[0], prm[P_S1], prm[P_GAMMA0], rho0)
-        cL2 = C * C + 4.0 * prm[1] * J ** (-2.0 / 3.0) / (3.0 * rho0)
-        dkk = 0.0
-        if velgrad.shape[0]:
-            for i in range(velgrad.shape[1]):
-                dkk += velgrad[p, i, i]
-        cq = prm[P_A1] * C + prm[P_A2] * prm[P_DX] * abs(dkk)
-        vp = 0.0
-        for i in range(v.shape[1]):
-            vp += v[p, i] * v[p, i]
-        speed = cq + math.sqrt(cq * cq + cL2) + math.sqrt(vp)
-        if not speed <= best:          # NaN propagates (a particle past Eq 51's singularity)
-            best = speed
-    return best

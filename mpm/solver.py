@@ -32,8 +32,9 @@ from . import axisymmetric as AX
 from . import checkpoint
 from . import state as S
 from .boundary import ghost_nodes, nodal_conditions, ramp_code, with_axis_conditions
-from .finite_strain import MIE_GRUNEISEN, eos_state, material_tables, unsupported_material
-from .mie_gruneisen import max_signal_speed
+from .finite_strain import (LINEAR, MIE_GRUNEISEN, eos_state, material_tables,
+                            unsupported_material)
+from .signal_speed import max_signal_speed
 from .shock_front import ShockFrontGauge
 from .contact_gauge import AxialStressGauge, ContactGauge
 from .interpenetration import interpenetration_quantities
@@ -76,8 +77,9 @@ MAX_PERIOD_RATIO = 50.0
 #: samples of the gauges over the pulse duration (the shortest load ramp)
 GAUGE_SAMPLES = 100
 
-#: steps per compiled chunk of a Mie-Grueneisen run (dt is recomputed between chunks)
-SHOCK_CHUNK = 10
+#: steps per compiled chunk of a run with finite-strain fields (dt is recomputed between
+#: chunks from the current state, :meth:`Model.current_time_step`)
+STATE_DT_CHUNK = 10
 
 HIST_COLUMNS = ("time", "kinetic", "strain", "work_ext", "dissipated", "work_bc", "interface",
                 "kinetic_grid")
@@ -145,8 +147,8 @@ class Model:
         # the stress update of each field: small-strain linear or finite-strain (F)
         self.material_kind, self.material_params = material_tables(case, float(np.min(self.grid.cell)))
         self.particles.eos = eos_state(self.particles.P, self.material_kind)
-        # Mie-Grueneisen fields (shock): dt follows the current state between chunks
         self.mie_gruneisen = bool(np.any(self.material_kind == MIE_GRUNEISEN))
+        self.rho0 = np.array([m.rho for m in mats], float)
         self.tables = None
         self.node_out = None
         rigid = np.zeros(self.M, bool)
@@ -160,6 +162,7 @@ class Model:
             rigid = self.tables.rigid.astype(bool)
         if rigid.all():
             raise CaseError("mpm option rigid_bodies: at least one body must be deformable")
+        self.rigid = rigid
         # rigid bodies driven by a velocity or displacement do work that the run's energy
         # sums do not track (their motion is imposed on the grid, not forced)
         self.moving_rigid = sorted({bc.body for bc in case.boundary_conditions
@@ -180,11 +183,14 @@ class Model:
             raise CaseError(f"mpm option dt = {opts['dt']:.3g} s is above the stable explicit limit "
                             f"cell / wave speed = {dt_stable:.3g} s; lower dt or leave it to cfl")
         self.dt = opts["dt"] or opts["cfl"] * dt_stable
-        if self.mie_gruneisen:
-            if opts["dt"]:
-                raise CaseError("mpm option dt: runs with Mie-Grueneisen materials take their time "
-                                "step from the current wave speeds (option cfl); leave dt unset")
-            self.dt = min(self.dt, self.shock_time_step())
+        if self.mie_gruneisen and opts["dt"]:
+            raise CaseError("mpm option dt: runs with Mie-Grueneisen materials take their time "
+                            "step from the current wave speeds (option cfl); leave dt unset")
+        # finite-strain fields stiffen as they deform: unless dt is given, it follows the
+        # current state between chunks of steps (rigid fields keep F = I)
+        self.state_dt = not opts["dt"] and bool(np.any(self.material_kind[~rigid] != LINEAR))
+        if self.state_dt:
+            self.dt = min(self.dt, self.current_time_step())
         length = float(np.max(hi - lo))
         self.T1 = 4.0 * length / c_min
         self.ramp_time, self.ramp_code = _traction_ramp(self.loads, opts["ramp_time"], self.T1)
@@ -232,15 +238,15 @@ class Model:
         self.force_limiting = self.tables is None or \
             bool(self.tables.settings[S_FORCE_LIMIT] != 0.0)
 
-    def shock_time_step(self, velgrad: np.ndarray | None = None) -> float:
-        """cfl x cell / the largest signal speed of the Mie-Grueneisen particles in their
-        current state (:func:`mpm.mie_gruneisen.max_signal_speed`; at least the wave speed
-        of the run's materials at rest, which covers its other fields)."""
+    def current_time_step(self, velgrad: np.ndarray | None = None) -> float:
+        """cfl x cell / the largest signal speed of the finite-strain particles in their
+        current state (:func:`mpm.signal_speed.max_signal_speed`; at least the wave speed
+        of the run's materials at rest, which covers its linear fields)."""
         pt = self.particles
         D = pt.x.shape[1]
+        deformable = np.where(self.rigid, LINEAR, self.material_kind)
         speed = max_signal_speed(pt.F, pt.eos, np.zeros((0, D, D)) if velgrad is None else velgrad,
-                                 pt.v, pt.field, self.material_kind, self.material_params,
-                                 MIE_GRUNEISEN)
+                                 pt.v, pt.field, deformable, self.material_params, self.rho0)
         return self.opts["cfl"] * float(np.min(self.grid.cell)) / max(speed, self.wave_speed)
 
     def bundles(self, buffers) -> tuple:
@@ -464,8 +470,8 @@ class _Runner:
                 shown = max(shown, self.steps / total_steps)
                 bar.update(shown, f"t={self.t:.3g}s {_energy_ratio_text(h[-1, 7], h[-1, 2] + h[-1, 6])}")
                 total_steps = self._adapt(total_steps)
-                if m.mie_gruneisen:
-                    total_steps = self._shock_time_step()
+                if m.state_dt:
+                    total_steps = self._state_time_step()
                 window = int(math.ceil(0.5 * m.period / m.dt))
                 if self.t > m.ramp_time and self._settled(window):
                     self.stopped_by = "kinetic_energy"
@@ -485,11 +491,11 @@ class _Runner:
         if vtk_every and self.frames and self.frames[-1][0] < self.t:
             self._frame()
 
-    def _shock_time_step(self) -> int:
-        """Mie-Grueneisen runs: dt from the current state (Model.shock_time_step) for the
+    def _state_time_step(self) -> int:
+        """Finite-strain runs: dt from the current state (Model.current_time_step) for the
         next chunk; returns the total number of steps that reaches max_time with it."""
         m = self.m
-        m.dt = m.shock_time_step(self.bundles[1].velgrad)
+        m.dt = m.current_time_step(self.bundles[1].velgrad)
         self.bundles = (S.step_control(m),) + tuple(self.bundles[1:])
         remaining = (m.max_time - self.t) / m.dt
         return self.steps + (int(math.ceil(remaining - 1e-6)) if remaining > 1e-6 else 0)
@@ -514,8 +520,8 @@ class _Runner:
             pulse = min(ramps + [m.ramp_time])
             interval = min(interval, max(1, int(pulse / (GAUGE_SAMPLES * m.dt))))
             self.gauges.sample(self.t, m.particles.stress)
-        if m.mie_gruneisen:
-            interval = min(interval, SHOCK_CHUNK)
+        if m.state_dt:
+            interval = min(interval, STATE_DT_CHUNK)
         return interval
 
     def _check_energies(self, h: np.ndarray, cum_work: float) -> None:

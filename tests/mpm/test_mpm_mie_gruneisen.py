@@ -15,6 +15,7 @@ from interfaces import (Body, BoundaryCondition, Case, CaseError, MieGruneisen, 
 from interfaces.analytic.hugoniot import ShockHugoniot
 from mpm import finite_strain as FS
 from mpm import mie_gruneisen as MG
+from mpm.signal_speed import max_signal_speed
 from mpm.options import merge
 
 RHO = 8.87e-9
@@ -150,23 +151,30 @@ def test_artificial_viscosity_is_eq52_and_heats():
 
 def test_signal_speed_of_the_compressed_state():
     """max_signal_speed: c_q + sqrt(c_q^2 + c_L^2) + |v| with the isentropic bulk speed C
-    at (J, P), c_L^2 = C^2 + 4 G J^(-2/3) / (3 rho0), c_q = A1 C + A2 dx |D_kk|."""
+    at (J, P), c_q = A1 C + A2 dx |D_kk| and c_L the longitudinal speed of the acoustic
+    tensor (mpm/signal_speed.py) with rho0 C^2 as its bulk term: for F = diag(J, 1, 1)
+    the fastest in-plane wave runs along x, rho0 c_L^2 = rho0 C^2 + 4 mu / 3 - s_xx / 3,
+    mu = G J^(-2/3) (J^2 + 2) / 3 and s_xx = 2 G J^(-2/3) (J^2 - 1) / 3 (the deviatoric
+    Kirchhoff stress)."""
     visc = MieGruneisen(C0=NICKEL.C0, S1=1.44, gamma0=2.0, G=76e3, rho=RHO, A1=0.4, A2=4.0)
     kind, params = FS.material_tables(_case(visc), CELL)
     J, P, dkk, v = 0.8, 9e4, -2e5, np.array([[3e5, -4e5]])
     F = np.diag([J, 1.0, 1.0])[None]
     eos = np.array([[0.0, P]])
     L = np.diag([dkk, 0.0])[None]
-    speed = MG.max_signal_speed(F, eos, L, v, np.zeros(1, np.int64), kind, params, FS.MIE_GRUNEISEN)
+    rho0 = np.array([RHO])
+    speed = max_signal_speed(F, eos, L, v, np.zeros(1, np.int64), kind, params, rho0)
     eta = 0.2
     d = 1.0 - 1.44 * eta
     dfdeta = K * ((1.0 - 2.0 * eta) * d + 2.0 * 1.44 * eta * (1.0 - eta)) / d**3
     C = J * math.sqrt((dfdeta + 2.0 * P) / RHO)
-    cL2 = C * C + 4.0 * 76e3 * J ** (-2.0 / 3.0) / (3.0 * RHO)
+    mu = 76e3 * J ** (-2.0 / 3.0) * (J * J + 2.0) / 3.0
+    s_xx = 2.0 * 76e3 * J ** (-2.0 / 3.0) * (J * J - 1.0) / 3.0
+    cL2 = C * C + (4.0 * mu / 3.0 - s_xx / 3.0) / RHO
     cq = 0.4 * C + 4.0 * CELL * abs(dkk)
     assert speed == pytest.approx(cq + math.sqrt(cq * cq + cL2) + 5e5, rel=1e-12)
-    assert MG.max_signal_speed(F, eos, L, v, np.zeros(1, np.int64), np.zeros(1, np.int64),
-                               params, FS.MIE_GRUNEISEN) == 0.0
+    assert max_signal_speed(F, eos, L, v, np.zeros(1, np.int64), np.zeros(1, np.int64),
+                            params, rho0) == 0.0
 
 
 def test_bad_input_is_refused():
