@@ -2,10 +2,9 @@
 against the same impact with the neo-Hookean material of 004 Eq 18 (same K, G), in
 particle-steps per second.
 
-The Mie-Grueneisen run adds the pressure and energy update per particle and recomputes
-dt between chunks of ``mpm.solver.SHOCK_CHUNK`` steps (a Python pass over the particles
-each time); the neo-Hookean run keeps the dt of the material at rest and the usual
-output intervals. The bar of 004 Fig 7 made ``--height`` mm high (default 10: 32k
+The Mie-Grueneisen run adds the pressure and energy update per particle; both recompute
+dt between chunks of ``mpm.solver.STATE_DT_CHUNK`` steps (a compiled pass over the
+particles each time, ``mpm.signal_speed``). The bar of 004 Fig 7 made ``--height`` mm high (default 10: 32k
 particles at 0.25 mm cells), one thread, whole runs timed alternately ``--windows``
 times (the machine's speed drifts: the ratio of the medians is the figure). Writes
 ``bench_mpm_shock.json`` next to this script.
