@@ -887,11 +887,61 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
 
 
 @njit(cache=True)
+def _deformable_interface_forces(i, fields, nf, mass, mom, force, vol, area_vol, grad, disp, pos, cell,
+                                 origin, nn, tvol, kind, params, settings, rigid, node_zone, zone_pairs,
+                                 zone_kind, zone_params, lr_normal, lr_sep, df, dt, conserve, fadd,
+                                 node_out, write_out, one, work, law) -> float:
+    """Interface forces ``fadd`` among the ``nf`` deformable ``fields`` at node i: two as a
+    pair, equal and opposite (002 Eq 39), three or more each against the lump of the
+    others (000 Sec 2.6), the energy of the node counted once (half the sum over its
+    materials). Returns the interface energy of the node."""
+    d = mom.shape[2]
+    if nf == 2:
+        a = fields[0]
+        b = fields[1]
+        code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+        if code != LAW_IMPERFECT:
+            return 0.0
+        energy = _interface_force(i, a, b, b, fields, nf, mass, mom, force, vol, area_vol, grad, disp,
+                                  pos, cell, origin, nn, tvol, law, settings, False, lr_normal, lr_sep,
+                                  df, dt, one, node_out, write_out, work)
+        for k in range(d):
+            fadd[a, k] += one[k]
+            fadd[b, k] -= one[k]
+        return energy
+    mtot = 0.0
+    for j in range(nf):
+        mtot += mass[i, fields[j]]
+    e_node = 0.0
+    any_force = False
+    for j in range(nf):
+        a = fields[j]
+        b_law = _largest_partner(i, a, fields, nf, vol, rigid)
+        code = _pair_law(i, a, b_law, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
+        if code != LAW_IMPERFECT:
+            continue
+        e_node += _interface_force(i, a, -1, b_law, fields, nf, mass, mom, force, vol, area_vol, grad,
+                                   disp, pos, cell, origin, nn, tvol, law, settings, False, lr_normal,
+                                   lr_sep, df, dt, one, node_out, write_out and not any_force, work)
+        any_force = True
+        for k in range(d):
+            fadd[a, k] += one[k]
+    if write_out and any_force:
+        node_out[i, OUT_ENERGY] = 0.5 * e_node
+    if any_force and conserve:
+        _restore_sum(i, fields, nf, mass, mtot, fadd)
+    return 0.5 * e_node
+
+
+@njit(cache=True)
 def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, origin, nn, thick, kind,
                             params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
                             lr_normal, lr_sep, lr_rigid_sep, df, dt, force, node_out, nodes) -> float:
     """Interface forces on all multimaterial nodes (see mpm.multimaterial.add_interface_forces).
-    ``lr_rigid_sep`` as in :func:`correct_momentum_kernel`."""
+    ``lr_rigid_sep`` as in :func:`correct_momentum_kernel`. At a node that also sees a
+    rigid body the deformable fields first take their forces among themselves (an
+    interface ending on a wall keeps its end node), then each its force from the
+    largest rigid partner."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
     tol = settings[S_MASS_TOL]
@@ -901,6 +951,7 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
         node_out[:, :] = 0.0
     rigid_sep = lr_rigid_sep if lr_rigid_sep.shape[0] > 0 else lr_sep
     present = np.empty(m, dtype=np.int64)
+    deformable = np.empty(m, dtype=np.int64)
     fadd = np.zeros((m, d))
     law = np.empty(4)
     one = np.empty(d)
@@ -912,22 +963,28 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
         if npres < 2:
             continue
         tvol = _cell_volume(cell, thick, i)
-        for j in range(npres):
-            for k in range(d):
-                fadd[present[j], k] = 0.0
         r = -1
         rv = -1.0
+        ndef = 0
         for j in range(npres):
             c = present[j]
-            if rigid[c] != 0 and vol[i, c] > rv:
+            for k in range(d):
+                fadd[c, k] = 0.0
+            if rigid[c] == 0:
+                deformable[ndef] = c
+                ndef += 1
+            elif vol[i, c] > rv:
                 rv = vol[i, c]
                 r = c
+        if ndef >= 2:
+            total += _deformable_interface_forces(
+                i, deformable, ndef, mass, mom, force, vol, area_vol, grad, disp, pos, cell, origin, nn,
+                tvol, kind, params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
+                lr_normal, lr_sep, df, dt, conserve, fadd, node_out, write_out, one, work, law)
         if r >= 0:
-            # rigid partner: force on the non-rigid fields only, energy per interaction
-            for j in range(npres):
-                a = present[j]
-                if rigid[a] != 0:
-                    continue
+            # rigid partner: force on the deformable fields only, energy per interaction
+            for j in range(ndef):
+                a = deformable[j]
                 code = _pair_law(i, a, r, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
                 if code != LAW_IMPERFECT:
                     continue
@@ -935,45 +992,7 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
                                           grad, disp, pos, cell, origin, nn, tvol, law, settings, True,
                                           lr_normal, rigid_sep, df, dt, one, node_out, write_out, work)
                 for k in range(d):
-                    fadd[a, k] = one[k]
-        elif npres == 2:
-            a = present[0]
-            b = present[1]
-            code = _pair_law(i, a, b, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
-            if code != LAW_IMPERFECT:
-                continue
-            total += _interface_force(i, a, b, b, present, npres, mass, mom, force, vol, area_vol, grad,
-                                      disp, pos, cell, origin, nn, tvol, law, settings, False, lr_normal,
-                                      lr_sep, df, dt, one, node_out, write_out, work)
-            for k in range(d):
-                fadd[a, k] = one[k]
-                fadd[b, k] = -one[k]       # 002 Eq 39: equal and opposite
-        else:
-            # 3+ materials: each against the lump of the others (000 Sec 2.6); the
-            # energy of a node is counted once: half the sum over its materials
-            mtot = 0.0
-            for j in range(npres):
-                mtot += mass[i, present[j]]
-            e_node = 0.0
-            any_force = False
-            for j in range(npres):
-                a = present[j]
-                b_law = _largest_partner(i, a, present, npres, vol, rigid)
-                code = _pair_law(i, a, b_law, kind, params, node_zone, zone_pairs, zone_kind, zone_params, law)
-                if code != LAW_IMPERFECT:
-                    continue
-                e_node += _interface_force(i, a, -1, b_law, present, npres, mass, mom, force, vol,
-                                           area_vol, grad, disp, pos, cell, origin, nn, tvol, law,
-                                           settings, False, lr_normal, lr_sep, df, dt, one, node_out,
-                                           write_out and not any_force, work)
-                any_force = True
-                for k in range(d):
-                    fadd[a, k] = one[k]
-            total += 0.5 * e_node
-            if write_out and any_force:
-                node_out[i, OUT_ENERGY] = 0.5 * e_node
-            if any_force and conserve:
-                _restore_sum(i, present, npres, mass, mtot, fadd)
+                    fadd[a, k] += one[k]
         for j in range(npres):
             c = present[j]
             for k in range(d):
