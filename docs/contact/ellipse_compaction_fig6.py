@@ -140,7 +140,7 @@ def main() -> None:
     fig.suptitle(f"004 Fig 6: 20 ellipses compacted {100 * args.strain:g} % at 100 m/s "
                  f"({args.cell:g} mm cells, {opts}; 3+ nodes {args.three_material} unless named)")
     fig.tight_layout(rect=(0, 0, 1, 0.96))
-    fig.savefig(HERE / "ellipse_compaction_fig6.png", dpi=110)
+    fig.savefig(HERE / "ellipse_compaction_fig6.png", dpi=90)
     (HERE / "ellipse_compaction_fig6.csv").write_text("\n".join(rows) + "\n")
 
 
