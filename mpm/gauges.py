@@ -44,8 +44,10 @@ class StressGauges:
         self.times: list[float] = []
         self.samples: list[tuple[float, float]] = []
 
-    def sample(self, t: float, stress: np.ndarray) -> None:
-        """Record the gauges' mean sigma_xx at time t."""
+    def sample(self, t: float, particles) -> None:
+        """Record the gauges' mean sigma_xx at time t (``particles``: the run's
+        :class:`mpm.particles.Particles`; a gauge's particles share one volume)."""
+        stress = particles.stress
         self.times.append(t)
         self.samples.append(tuple(float(stress[sel, 0].mean()) for sel in self.members.values()))
 

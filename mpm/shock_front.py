@@ -56,9 +56,11 @@ class ShockFrontGauge:
         self.times: list[float] = []
         self.samples: list[tuple] = []
 
-    def sample(self, t: float, stress: np.ndarray) -> None:
+    def sample(self, t: float, particles) -> None:
         """Record the column-averaged sigma_xx, sigma_yy at time t (at most every
-        ``sample_every``; the runner calls after every chunk of steps)."""
+        ``sample_every``; the runner calls after every chunk of steps) from the run's
+        :class:`mpm.particles.Particles` (a column's particles share one volume)."""
+        stress = particles.stress
         if self.times and t < self.times[-1] + self.sample_every * (1.0 - 1e-9):
             return
         n = self.X.size

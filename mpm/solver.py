@@ -460,7 +460,7 @@ class _Runner:
                 h = self._advance(n)
                 self.hist_chunks.append(h)
                 if self.gauges is not None:
-                    self.gauges.sample(self.t, m.particles.stress)
+                    self.gauges.sample(self.t, m.particles)
                 cum_work += h[:, 3].sum() + h[:, 5].sum()
                 self._check_energies(h, cum_work)
                 if self.steps >= next_frame:
@@ -510,16 +510,16 @@ class _Runner:
         if body_gauges:
             self.gauges = body_gauges[0](m.case, m.particles.field, m.C)
             interval = min(interval, max(1, int(self.gauges.sample_every / m.dt)))
-            self.gauges.sample(self.t, m.particles.stress)
+            self.gauges.sample(self.t, m.particles)
         elif ShockFrontGauge.measurement in m.case.measurements:
             self.gauges = ShockFrontGauge(m.case, m.particles.x0, m.particles.spacing)
-            self.gauges.sample(self.t, m.particles.stress)
+            self.gauges.sample(self.t, m.particles)
         elif m.case.measurements.get("transmitted_energy") is not None:
             self.gauges = StressGauges(m.case, m.particles.x0, m.particles.spacing)
             ramps = [bc.ramp_time for bc in m.case.boundary_conditions if bc.ramp_time]
             pulse = min(ramps + [m.ramp_time])
             interval = min(interval, max(1, int(pulse / (GAUGE_SAMPLES * m.dt))))
-            self.gauges.sample(self.t, m.particles.stress)
+            self.gauges.sample(self.t, m.particles)
         if m.state_dt:
             interval = min(interval, STATE_DT_CHUNK)
         return interval
