@@ -7,7 +7,7 @@ node: lumping the 3+ nodes (004 Eq 50) moves the particles there by up to 0.069 
 the single-material run (the upper blocks rotate into the lower one, as 004 Fig 4B shows)
 and the mean axial stress ends 2.5 % low; pair by pair (004 Sec 3.4, Eq 49): 0.010 cell
 and -0.64 %. Mid-cell (figure script docs/contact/three_material_fig4.py): 0.100 / 0.030
-cell, -4.6 / -1.6 %. With grid normals (DF) the explicit treatment does not help (0.061
+cell, -4.7 / -1.6 %. With grid normals (DF) the explicit treatment does not help (0.061
 cell): 004 finds the pairs in contact by LR.
 """
 import numpy as np
