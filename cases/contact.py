@@ -115,7 +115,8 @@ def compression_20(contact: str = "LR", strain: float = 0.2, width: float = 40.0
     the bonded rigid piston at ``push`` x the wave speed until the stack is shortened by
     ``strain``; ``contact`` one of ``CONTACT_METHODS`` or ``single``: one block of the
     stack's height (single-material MPM, 004's SMM, the reference). Measurement: the mean
-    axial stress of the stack's particles, sampled 2000 times (quantity ``axial_stress``,
+    axial stress of the stack (the volume average over its particles,
+    :mod:`mpm.contact_gauge`), sampled 2000 times (quantity ``axial_stress``,
     at the end; the history in ``diagnostics["gauges"]``). 004 reports (MM - SMM) / SMM
     of that stress against strain.
     """
@@ -235,7 +236,8 @@ def ellipse_compaction(contact: str = "LR", three_material: str = "lump", n: int
     ``contact`` selects the detection (``CONTACT_METHODS``), ``three_material`` the
     treatment of nodes seen by 3+ materials (004 used lumping). MPM: ``mpm_cell`` (004:
     0.0143 mm, 2 x 2 particles per cell), no damping; 004 used CPDI shape functions and
-    XPIC(5). Measurements: the mean axial stress of the ellipses, sampled 300 times
+    XPIC(5). Measurements: the mean axial stress of the ellipses (volume average, as 004's
+    NairnMPM reports it), sampled 300 times
     (quantity ``axial_stress``; 004: LR reached 105 GPa, DF 84 GPa, CP = 0.8 80 GPa), and the
     particles of one ellipse inside another at the end (``interpenetration``; 004: many
     with DF, none visible with LR).
