@@ -6,9 +6,10 @@ Measured (5 mm cells, 2 x 2 uGIMP, rigid piston at 0.05 % of the wave speed): LR
 SMM to round-off up to 12.5 % strain, then -0.30 % at worst (13.4 %) and -0.19 % at 20 %
 (004: within +-1 %); DF and velocity-only -8.9 % worst, -6.6 % at 20 %; CP = 0.92 -10.7 /
 -8.8 %; CP = 0.80 -12.4 / -9.5 %. (With the plain mean over the particles, before the
-volume average: DF -8.1 / -6.0 %, LR -0.30 / -0.18 %.) LR held only to 17.6 % (-2.5 % at 20 %) while its
-point clouds stayed in the 2^D cells at a node with a single particle of one class there
-(nodes beyond the blocks' free sides): mpm/multimaterial_lr.py LR_MIN_POINTS.
+volume average: DF -8.1 / -6.0 %, LR -0.30 / -0.18 %.) LR held only to 17.6 % (-2.5 % at
+20 %) while its point clouds stayed in the 2^D cells at a node with a single particle of
+one class there (nodes beyond the blocks' free sides): mpm/multimaterial_lr.py
+LR_MIN_POINTS.
 """
 import numpy as np
 

@@ -14,7 +14,8 @@ def test_axial_stress_is_the_volume_average_over_the_current_particle_volumes():
     case = cases.build("compression_20", contact="LR")
     names = [b.name for b in case.bodies]
     # two particles of each stack body and one of the piston (not a member of the gauge)
-    field = np.array([names.index("lower")] * 2 + [names.index("upper")] * 2 + [names.index("piston")])
+    field = np.array([names.index("lower")] * 2 + [names.index("upper")] * 2
+                     + [names.index("piston")])
     gauge = AxialStressGauge(case, field, [np.eye(4)] * len(names))
     # a particle compressed to J = 0.2 carries five times the stress of one at J = 1
     volume = np.array([1.0, 0.2, 1.0, 0.2, 7.0])
