@@ -161,7 +161,8 @@ def _agreement_panel(ax, comparison, quantities: list[str]) -> None:
     ax.set_xlabel("difference to the reference (%)")
     ax.set_title("agreement with the reference", fontsize=10)
     ax.grid(axis="x", alpha=0.3)
-    ax.legend(fontsize=7, loc="lower right")
+    if ax.get_legend_handles_labels()[1]:     # no finite value at all: nothing to name
+        ax.legend(fontsize=7, loc="lower right")
 
 
 def _profile_panel(ax, comparison, pname: str, key: str) -> None:
