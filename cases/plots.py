@@ -130,6 +130,13 @@ def plot_comparison(comparison, path) -> Path:
     return _finish(fig, axes[n:], f"{comparison.case.name}: {comparison.case.description}", path)
 
 
+def _legend(ax, **kwargs) -> None:
+    """The panel's legend, if any curve or marker is labelled (a method that gave no finite
+    value draws nothing, and an empty legend would only warn)."""
+    if ax.get_legend_handles_labels()[1]:
+        ax.legend(**kwargs)
+
+
 def _agreement_panel(ax, comparison, quantities: list[str]) -> None:
     """Rows = quantities, x = (value - reference) / |reference| in %, one marker per
     method that gives the quantity; the reference's value is in the row label."""
@@ -161,8 +168,7 @@ def _agreement_panel(ax, comparison, quantities: list[str]) -> None:
     ax.set_xlabel("difference to the reference (%)")
     ax.set_title("agreement with the reference", fontsize=10)
     ax.grid(axis="x", alpha=0.3)
-    if ax.get_legend_handles_labels()[1]:     # no finite value at all: nothing to name
-        ax.legend(fontsize=7, loc="lower right")
+    _legend(ax, fontsize=7, loc="lower right")
 
 
 def _profile_panel(ax, comparison, pname: str, key: str) -> None:
@@ -179,7 +185,7 @@ def _profile_panel(ax, comparison, pname: str, key: str) -> None:
     ax.set_xlabel(f"distance along {pname} (mm)" if absc == "s" else f"{absc} (mm)")
     ax.set_ylabel(LABELS.get(key, key))
     ax.set_title(f"{pname}: {key}", fontsize=10)
-    ax.legend(fontsize=7)
+    _legend(ax, fontsize=7)
 
 
 def _normal_is_perfect(case) -> bool:
@@ -247,7 +253,7 @@ def plot_sweep(sweep, path, x_transform: str | None = None, quantities=None) -> 
             ax.set_xscale("log")
             _limit_ticks(ax, limits)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        _legend(ax, fontsize=8)
     return _finish(fig, axes[n:], f"{sweep.case_name}: sweep of {sweep.param}", path)
 
 
