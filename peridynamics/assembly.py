@@ -18,6 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
+from .budget import SLOT_BUDGET
 from .reduction import ReducedMatrix
 from .kernels import assemble_blocks, block_slots, coupled_blocks, dof_columns, full_layout, horizon_radius2, within
 
@@ -255,11 +256,6 @@ def dof_position(pattern: Pattern, r: np.ndarray, c: np.ndarray, al: int, be: in
         nb = hi - lo
         pos[k] = d * d * lo + al * d * nb + (kk - lo) * d + be
     return pos
-
-
-#: memory (bytes) the precomputed tangent block slots of :func:`kernels.block_slots` may take;
-#: above it the kernels find each block by binary search in the pattern (same result, slower)
-SLOT_BUDGET = 512 * 2 ** 20
 
 
 def tangent_slots(blocks: list[MaterialBlock], pattern: Pattern, boff: np.ndarray,
