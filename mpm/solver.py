@@ -148,6 +148,7 @@ class Model:
         self.material_kind, self.material_params = material_tables(case, float(np.min(self.grid.cell)))
         self.particles.eos = eos_state(self.particles.P, self.material_kind)
         self.mie_gruneisen = bool(np.any(self.material_kind == MIE_GRUNEISEN))
+        self.tracks_F = bool(np.any(self.material_kind)) or self.cpdi    # particles carry F
         self.rho0 = np.array([m.rho for m in mats], float)
         self.tables = None
         self.node_out = None
@@ -675,9 +676,11 @@ class _Runner:
 
     def _frame(self) -> None:
         pt = self.m.particles
-        self.frames.append((self.t, pt.x.copy(), {
-            "displacement": pt.x - pt.x0, "velocity": pt.v.copy(), "stress": pt.stress.copy(),
-            "material": pt.field.astype(np.int64)}))
+        fields = {"displacement": pt.x - pt.x0, "velocity": pt.v.copy(), "stress": pt.stress.copy(),
+                  "material": pt.field.astype(np.int64)}
+        if self.m.tracks_F:
+            fields["deformation_gradient"] = pt.F.reshape(pt.P, 9).copy()
+        self.frames.append((self.t, pt.x.copy(), fields))
 
     def history(self) -> np.ndarray:
         return np.vstack(self.hist_chunks) if self.hist_chunks else np.zeros((0, len(HIST_COLUMNS)))
@@ -736,10 +739,9 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
                 q[key] *= 2.0 * math.pi
     q.update(bulk_quantities(case, pt, q["strain_energy"] + q["interface_energy"],
                              2.0 * math.pi if model.axisymmetric else 1.0))
-    tracked = bool(np.any(model.material_kind)) or model.cpdi     # particles carry F
     D = pt.x.shape[1]
     q.update(interpenetration_quantities(case, pt.x, pt.field, pt.volume, pt.volume0, pt.spacing,
-                                         pt.F[:, :D, :D] if tracked else None))
+                                         pt.F[:, :D, :D] if model.tracks_F else None))
     if run.gauges is not None:
         q.update(run.gauges.quantities())
         res.diagnostics["gauges"] = run.gauges.history()
@@ -748,7 +750,7 @@ def _result(model: Model, run: _Runner, timings: dict) -> Result:
                   "stress": pt.stress.copy(), "strain": pt.strain.copy(),
                   "material": pt.field.copy(), "velocity": pt.v.copy(),
                   "volume": pt.volume0.copy()}
-    if tracked:
+    if model.tracks_F:
         res.fields["deformation_gradient"] = pt.F.reshape(pt.P, 9).copy()
     spacing = float(np.max(np.asarray(model.grid.cell, float) / np.asarray(opts["ppc"], float)))
     res.profiles.update(line_profiles(case, pt.x0, pt.x - pt.x0, spacing))

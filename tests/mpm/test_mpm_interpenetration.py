@@ -69,13 +69,25 @@ def test_container_area_is_between_the_facing_domain_edges():
         container_area(dict(sides, top="floor"), names, x, field, np.full(2, S))
 
 
-def test_ellipse_compaction_reports_its_area_over_the_box():
+def test_ellipse_compaction_reports_its_area_over_the_box(tmp_path):
     """Before the piston reaches the ellipses (5 %) their area is the undeformed one and
-    the box is 1 x 1.9 mm."""
+    the box is 1 x 1.9 mm. The VTK frames carry each particle's F (CPDI and finite-strain
+    runs), from which the frames' interpenetration is counted as the run's."""
     import cases
+    import meshio
     from cases.methods import run
     case = cases.build("ellipse_compaction", mpm_cell=0.1, strain=0.05, contact="DF")
-    res = run(case, "mpm", progress=False, shape="cpdi")
+    res = run(case, "mpm", progress=False, shape="cpdi", vtk_dir=str(tmp_path), vtk_frames=2)
+    last = meshio.read(sorted(tmp_path.glob("*.vtu"))[-1])
+    F = last.point_data["deformation_gradient"]
+    np.testing.assert_array_equal(F, res.fields["deformation_gradient"])
+    assert np.any(np.abs(F.reshape(-1, 3, 3)[:, :2, :2] - np.eye(2)) > 1e-6)    # deformed
+    names = np.array([b.name for b in case.bodies])
+    mat = last.point_data["material"]
+    ell = np.char.startswith(names[mat], "ellipse")
+    inside = inside_other_material(last.points[ell, :2], mat[ell], F.reshape(-1, 3, 3)[ell, :2, :2],
+                                   np.full(2, 0.25 * 0.1))
+    assert inside.sum() == res.quantities["interpenetration"]
     names = [b.name for b in case.bodies]
     ell = np.char.startswith(np.array(names)[res.fields["material"]], "ellipse")
     area = float(np.sum(res.fields["volume"][ell])) / case.thickness
