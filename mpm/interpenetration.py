@@ -79,20 +79,26 @@ def container_area(sides: dict, names: list, x: np.ndarray, field: np.ndarray,
     return float(width * height)
 
 
+def inside_pairs(x: np.ndarray, field: np.ndarray, F: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Pairs (p, q), rows of an (K, 2) array, of particles of different materials
+    (positions ``x`` (P, D), materials ``field``) whose p centre lies inside the domain
+    F_q [-half, half]^D of q."""
+    if x.shape[0] < 2:
+        return np.zeros((0, 2), np.int64)
+    reach = np.linalg.norm(np.abs(F) @ half, axis=1)         # circumscribed radius per domain
+    pairs = cKDTree(x).query_pairs(float(reach.max()), output_type="ndarray")
+    if pairs.size == 0:
+        return np.zeros((0, 2), np.int64)
+    pairs = pairs[field[pairs[:, 0]] != field[pairs[:, 1]]]
+    both = np.vstack((pairs, pairs[:, ::-1]))                 # p's centre in q's domain, and back
+    xi = np.linalg.solve(F[both[:, 1]], (x[both[:, 0]] - x[both[:, 1]])[:, :, None])[:, :, 0]
+    return both[np.all(np.abs(xi) < half, axis=1)]
+
+
 def inside_other_material(x: np.ndarray, field: np.ndarray, F: np.ndarray,
                           half: np.ndarray) -> np.ndarray:
     """Mask of the particles (positions ``x`` (P, D), materials ``field``) whose centre
     lies inside the domain F_q [-half, half]^D of a particle q of another material."""
     inside = np.zeros(x.shape[0], bool)
-    if x.shape[0] < 2:
-        return inside
-    reach = np.linalg.norm(np.abs(F) @ half, axis=1)         # circumscribed radius per domain
-    pairs = cKDTree(x).query_pairs(float(reach.max()), output_type="ndarray")
-    if pairs.size == 0:
-        return inside
-    pairs = pairs[field[pairs[:, 0]] != field[pairs[:, 1]]]
-    for p, q in (pairs.T, pairs[:, ::-1].T):                  # p's centre in q's domain, and back
-        xi = np.linalg.solve(F[q], (x[p] - x[q])[:, :, None])[:, :, 0]
-        hit = np.all(np.abs(xi) < half, axis=1)
-        inside[p[hit]] = True
+    inside[inside_pairs(x, field, F, half)[:, 0]] = True
     return inside
