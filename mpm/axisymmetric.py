@@ -22,7 +22,8 @@ radian too. What axisymmetry adds is done here:
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .shape import shape_2d_work, stencil_work
 

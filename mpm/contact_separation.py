@@ -22,7 +22,8 @@ grid functions.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from interfaces.errors import CaseError
 

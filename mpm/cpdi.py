@@ -40,7 +40,8 @@ the mean of the corner function at the two corners of the loaded edge
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .kernels import normalise_fields, zero_nodal
 from .shape import B2, B2CPDI, CPDI, LINEAR, axis_weights3

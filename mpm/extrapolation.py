@@ -33,7 +33,8 @@ restores 000 Eq 13 everywhere.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .multimaterial_constants import LAW_IMPERFECT, LAW_NONE, LAW_PERFECT
 from .multimaterial_kernels import _pair_law

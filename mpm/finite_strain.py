@@ -36,7 +36,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from interfaces.errors import CaseError
 from interfaces.materials import VOLUMETRIC_TERMS, MieGruneisen, NeoHookean

@@ -20,7 +20,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .shape import (axis_weights, axis_weights3, axis_weights_tuple, edge_kind, shape_2d_work,
                     stencil_work)

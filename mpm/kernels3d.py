@@ -15,7 +15,8 @@ interface forces, nodal conditions) are written once for any D.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .kernels import normalise_weights
 from .shape import axis_weights3, axis_weights_tuple, edge_kind

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from interfaces.jit import njit
 
 #: columns of the per-field parameter table of mpm.finite_strain after K, G, volumetric code
 P_S1 = 3

@@ -40,7 +40,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .shape import B2CPDI, CPDI, SHAPE_CODES, snapped
 

@@ -33,7 +33,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .multimaterial_constants import LAW_FRICTION, LAW_PERFECT
 from .multimaterial_lr import _solve_small

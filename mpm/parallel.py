@@ -14,7 +14,9 @@ blocks: a run gives bit-identical results with 1 or 2 threads for the same ``B``
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
+
+from interfaces.jit import njit
 
 from .kernels import (g2p_range_2d, normalise_fields, p2g_range_2d, p2g_tractions_2d,
                       zero_nodal)

@@ -43,7 +43,8 @@ instead of a tail weight ~(1e-16)^2 of the particle's or none.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 LINEAR = 0
 UGIMP = 1

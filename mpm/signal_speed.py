@@ -32,7 +32,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .finite_strain import (LINEAR, MIE_GRUNEISEN, P_G, P_K, P_VOLUMETRIC,
                             volumetric_stiffness)

@@ -40,7 +40,8 @@ columns of ``mpm.solver.HIST_COLUMNS``.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .axisymmetric import (hoop_force, hoop_from_motion, hoop_stress_update,
                            interface_volumes, radial_velocity, zero_axis_gradients)

@@ -48,7 +48,8 @@ recomputed in each pass).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .cpdi import is_cpdi, shape_cpdi
 from .kernels import _pick, nodal_kinematics

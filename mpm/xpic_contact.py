@@ -59,7 +59,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
 
 from .multimaterial_constants import (
     LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, P_DN_COMPRESSION,

@@ -37,7 +37,9 @@ points, delta = 3.01 h, set 3: residual 0.15-0.17 -> 0.11 s, tangent 0.30-0.33 -
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
+
+from interfaces.jit import njit
 
 #: relative threshold below which a reference area (volume) counts as degenerate
 DEGENERATE_TOL = 1e-8

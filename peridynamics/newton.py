@@ -65,7 +65,9 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from numba import njit
+
+from interfaces.jit import njit
+
 from scipy.sparse.linalg import LinearOperator, gmres
 
 from interfaces.errors import SolverError

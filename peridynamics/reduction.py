@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from numba import njit
+
+from interfaces.jit import njit
 
 
 @njit(cache=True)

@@ -1,0 +1,52 @@
+"""The project's ``njit``: numba's, compiling one machine code per non-literal signature.
+
+When compiled code calls a numba function with a constant argument (``phase_contact(0,
+...)``, ``b = -1`` for "the lump of all others", ``True`` for a switch), numba types the
+argument as a literal (``Literal[int](0)``) and compiles a separate copy of the callee, and
+of everything it calls, for each constant. Over this project's kernels that made 85 extra
+copies (``_interaction_dp`` alone 24), and the first MPM run compiled 1.8x as long as it
+does with the dispatcher here. That dispatcher types such calls with the plain types
+(``int64``, ``bool``) and falls back to the literal types only when a function cannot be
+typed without them (indexing a heterogeneous tuple by an argument). Calls from Python
+never pass literals. Cost: the kernels no longer fold such constants (MPM throughput
+0.95-1.00 of before, measured in benchmarks/bench_mpm_xpic.py).
+"""
+from __future__ import annotations
+
+from numba import njit as _numba_njit
+from numba import types
+from numba.core.errors import TypingError
+from numba.core.registry import CPUDispatcher
+
+
+class NonLiteralDispatcher(CPUDispatcher):
+    """A CPU dispatcher that compiles calls from compiled code for unliteral types."""
+
+    def get_call_template(self, args, kws):
+        plain = tuple(types.unliteral(a) for a in args)
+        plain_kws = {k: types.unliteral(v) for k, v in kws.items()}
+        if plain != tuple(args) or plain_kws != kws:
+            try:
+                return super().get_call_template(plain, plain_kws)
+            except TypingError:
+                pass
+        return super().get_call_template(args, kws)
+
+
+def njit(*args, **options):
+    """``numba.njit`` (same arguments, bare or called) returning a
+    :class:`NonLiteralDispatcher`."""
+    if args and callable(args[0]):
+        return _as_non_literal(_numba_njit(*args, **options))
+
+    def wrap(func):
+        return _as_non_literal(_numba_njit(*args, **options)(func))
+    return wrap
+
+
+def _as_non_literal(dispatcher):
+    """numba builds the dispatcher from its options (caching, inlining, fastmath); only its
+    class changes here. NUMBA_DISABLE_JIT returns the plain function, left as it is."""
+    if type(dispatcher) is CPUDispatcher:
+        dispatcher.__class__ = NonLiteralDispatcher
+    return dispatcher
