@@ -23,9 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from interfaces.jit import njit
-
 from interfaces.errors import CaseError
+from interfaces.jit import njit
 
 from .shape import B2, B2CPDI, CPDI, LINEAR, SHAPE_CODES, UGIMP, gimp_1d
 

@@ -37,9 +37,8 @@ import math
 
 import numpy as np
 
-from interfaces.jit import njit
-
 from interfaces.errors import CaseError
+from interfaces.jit import njit
 from interfaces.materials import VOLUMETRIC_TERMS, MieGruneisen, NeoHookean
 
 from . import mie_gruneisen as MG

@@ -65,12 +65,10 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-
-from interfaces.jit import njit
-
 from scipy.sparse.linalg import LinearOperator, gmres
 
 from interfaces.errors import SolverError
+from interfaces.jit import njit
 from interfaces.sparse import DirectSolver, SingularMatrixError
 
 from .assembly import CPDSystem, reduced_target
