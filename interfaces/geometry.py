@@ -259,7 +259,8 @@ class Ellipse(Shape):
         t = math.radians(self.angle)
         u = p[:, 0] * math.cos(t) + p[:, 1] * math.sin(t)
         w = -p[:, 0] * math.sin(t) + p[:, 1] * math.cos(t)
-        return (u / (self.a + tol)) ** 2 + (w / (self.b + tol)) ** 2 <= 1.0
+        with np.errstate(over="ignore"):     # far from a tiny ellipse: inf, outside
+            return (u / (self.a + tol)) ** 2 + (w / (self.b + tol)) ** 2 <= 1.0
 
     def edge_mask(self, points, side: str, tol: float) -> np.ndarray:
         """Points within ``tol`` of the curve (side ``"boundary"``, the only side of an ellipse)."""
@@ -269,9 +270,10 @@ class Ellipse(Shape):
         u = p[:, 0] * math.cos(t) + p[:, 1] * math.sin(t)
         w = -p[:, 0] * math.sin(t) + p[:, 1] * math.cos(t)
         # distance to the curve to first order: |F| / |grad F| with F = (u/a)^2 + (w/b)^2 - 1
-        F = (u / self.a) ** 2 + (w / self.b) ** 2 - 1.0
-        g = 2.0 * np.hypot(u / self.a ** 2, w / self.b ** 2)
-        return np.abs(F) <= tol * np.maximum(g, 1e-300)
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # tiny ellipse: inf
+            F = (u / self.a) ** 2 + (w / self.b) ** 2 - 1.0
+            g = 2.0 * np.hypot(u / self.a ** 2, w / self.b ** 2)
+            return np.isfinite(F) & (np.abs(F) <= tol * np.maximum(g, 1e-300))
 
     def bounds(self):
         t = math.radians(self.angle)

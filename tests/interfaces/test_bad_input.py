@@ -84,3 +84,21 @@ def test_fem_boolean_options_refused(option, value, message):
     import fem
     with pytest.raises(CaseError, match=message):
         fem.solve(cases.build("two_layer", fem_h=1.0), **{option: value})
+
+
+def test_a_tiny_ellipse_answers_without_overflow_warnings():
+    """A semi-axis of 1e-200 mm passes the range check (positive, at most 1e30); points
+    far from it are outside and off its curve, without numpy overflow warnings (the
+    fuzzed case files met this)."""
+    import warnings
+
+    import numpy as np
+
+    from interfaces.geometry import Ellipse
+
+    tiny = Ellipse(0.0, 0.0, 1e-200, 1.0)
+    points = np.array([[1e10, 0.0], [0.0, 0.5], [1e-201, 0.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert tiny.contains(points).tolist() == [False, True, True]
+        assert tiny.edge_mask(points, "boundary", 1e-9).tolist() == [False, False, True]
