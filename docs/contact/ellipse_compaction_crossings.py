@@ -31,16 +31,17 @@ from scipy.spatial import cKDTree
 
 import cases
 from cases.methods import run
+from ellipse_compaction_fig6 import split_run  # the Fig 6 script beside this one
 from mpm.interpenetration import inside_pairs
 
 HERE = Path(__file__).resolve().parent
 
 
 def frames(label: str, cell: float, n_frames: int) -> tuple[list, np.ndarray]:
-    """One run's frames [(time, x, v, F (P, 2, 2), material)] and its ellipse names mask."""
-    contact, _, three = label.partition("/")
-    case = cases.build("ellipse_compaction", contact=contact, mpm_cell=cell,
-                       three_material=three or "lump")
+    """One run's frames [(x, v, F (P, 2, 2), material)] and the mask of its ellipse
+    particles."""
+    contact, three = split_run(label, "lump")
+    case = cases.build("ellipse_compaction", contact=contact, mpm_cell=cell, three_material=three)
     with tempfile.TemporaryDirectory() as tmp:
         run(case, "mpm", progress=True, shape="cpdi", xpic=5, vtk_dir=tmp, vtk_frames=n_frames)
         out = []
