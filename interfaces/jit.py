@@ -10,6 +10,17 @@ does with the dispatcher here. That dispatcher types such calls with the plain t
 typed without them (indexing a heterogeneous tuple by an argument). Calls from Python
 never pass literals. Cost: the kernels no longer fold such constants (MPM throughput
 0.95-1.00 of before, measured in benchmarks/bench_mpm_xpic.py).
+
+``refcount=False`` compiles a kernel without numba's reference counting (its ``_nrt``
+option). numba counts the references of every array a compiled function binds: each
+array argument and each view it takes (``work[0]``, ``grad[i, a]``) costs an atomic
+increment and decrement per call, which the reference-count pruning removes only in
+straight-line code. The multimaterial kernels called once per node with some thirty
+array arguments spent about two thirds of the time step of a static double lap shear
+(1260 particles) there. A kernel compiled so must not allocate (numba refuses to compile
+``np.empty`` in it) nor keep an array returned by a call; the functions it calls inherit
+the setting unless they set ``refcount=True``, which a kernel that allocates and is
+called from such a kernel must therefore state.
 """
 from __future__ import annotations
 
@@ -33,9 +44,12 @@ class NonLiteralDispatcher(CPUDispatcher):
         return super().get_call_template(args, kws)
 
 
-def njit(*args, **options):
+def njit(*args, refcount: bool | None = None, **options):
     """``numba.njit`` (same arguments, bare or called) returning a
-    :class:`NonLiteralDispatcher`."""
+    :class:`NonLiteralDispatcher`; ``refcount`` False / True compiles without / with
+    numba's reference counting (module docstring), None inherits it from the caller."""
+    if refcount is not None:
+        options["_nrt"] = bool(refcount)
     if args and callable(args[0]):
         return _as_non_literal(_numba_njit(*args, **options))
 

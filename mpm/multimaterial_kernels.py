@@ -134,7 +134,7 @@ def _largest_partner(i, a, present, npres, vol, rigid) -> int:
     return best
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _node_normal(i, a, b_law, g_a, g_b, om_a, om_b, a_rigid, b_rigid, settings, lr_normal, out) -> bool:
     """Unit normal from a to b by the selected method (000 Sec 2.5, 004 Eq 13, LR)."""
     method = int(settings[S_NORMAL])
@@ -163,7 +163,7 @@ def _node_normal(i, a, b_law, g_a, g_b, om_a, om_b, a_rigid, b_rigid, settings, 
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _rigid_normal(g_a, g_r, om_r, cell, settings, out) -> bool:
     """Normal from a deformable field to a rigid partner: the rigid body's own surface
     normal -g_r (000 Sec 2.5, RMVG; NairnMPM prefers the rigid gradient), turned to
@@ -226,7 +226,7 @@ def _edge_distance(df, s0, ds, s) -> float:
     return df[k] + f * (df[k + 1] - df[k])
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _df_gap(i, x_a, x_b, n, cell, origin, nn, hc, settings, df) -> float:
     """004 Eq 15: d_b((x_b - x_i) . n) - d_a((x_a - x_i) . n), the normal gap between
     the two materials' edges (mm), with d_a = d and d_b(s) = -d(-s) in units of hc."""
@@ -243,7 +243,7 @@ def _df_gap(i, x_a, x_b, n, cell, origin, nn, hc, settings, df) -> float:
     return -hc * (_edge_distance(df, s0, ds, -sb / hc) + _edge_distance(df, s0, ds, sa / hc))
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _jump(i, a, x_a, x_b, n, cell, origin, nn, settings, lr_sep, df, jump, t_hat) -> float:
     """Separation vector delta = x_b - x_a (000 Eq 11, 13) corrected by the contact
     offset (Eq 14, delta_con = factor * h_perp), or with its normal part replaced by
@@ -287,7 +287,7 @@ def _jump(i, a, x_a, x_b, n, cell, origin, nn, settings, lr_sep, df, jump, t_hat
 # ---------------------------------------------------------------------------
 # contact / perfect-direction momentum change for one (a, b) interaction
 # ---------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _delta_p(code, law, dp0, n, dn, approaching, touching, out, tv) -> bool:
     """Momentum change of material a (000 Eq 7-16, 004 Eq 8-10, 002 Sec 2.4).
 
@@ -344,7 +344,7 @@ def _delta_p(code, law, dp0, n, dn, approaching, touching, out, tv) -> bool:
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _interaction_dp(i, a, b_only, b_law, present, npres, phase, mass, mom, force, vol, grad, disp, pos,
                     cell, origin, nn, tvol, code, law, settings, rigid_b, lr_normal, lr_sep, df, dt,
                     out, work) -> bool:
@@ -412,7 +412,7 @@ def _cell_volume(cell, thick, i) -> float:
 # ---------------------------------------------------------------------------
 # nodes seen by three or more materials, pair by pair (004 Sec 3.4, Eq 49)
 # ---------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _pair_contact(i, a, b, phase, mass, mom, vol, grad, xfield, cell, origin, nn, tvol, code,
                   settings, lr_normal, lr_sep, pair_normal, pair_sep, df, dt, n, work) -> bool:
     """Is the pair (a, b) in contact at node i? Its own normal a -> b into ``n`` (LR: the
@@ -456,7 +456,7 @@ def _pair_contact(i, a, b, phase, mass, mom, vol, grad, xfield, cell, origin, nn
     return rel < 0.0 and touching
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=True)
 def _explicit_three_plus(i, phase, present, npres, mass, mom, vol, grad, disp, pos, cell, origin,
                          nn, tvol, kind, params, settings, node_zone, zone_pairs, zone_kind,
                          zone_params, lr_normal, lr_sep, pair_normal, pair_sep, df, dt, dp,
@@ -516,7 +516,7 @@ def _common_material(act) -> int:
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _one_pair(i, a, b, code, mu, n, mass, mom, dp, touched, work, law) -> None:
     """Momentum change of one pair in contact at a 3+ node, as at a two-material node."""
     d = n.shape[0]
@@ -579,7 +579,7 @@ def _restore_sum(i, present, npres, mass, mtot, dp) -> None:
             dp[c, k] -= mass[i, c] / mtot * s
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _deformable_contact(i, phase, present, npres, mass, mom, force, vol, grad, disp, pos, cell,
                         origin, nn, tvol, kind, params, settings, rigid, node_zone, zone_pairs,
                         zone_kind, zone_params, lr_normal, lr_sep, pair_normal, pair_sep, df, dt,
@@ -653,7 +653,24 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
                             nodes) -> int:
     """Contact corrections on all multimaterial nodes (see mpm.multimaterial.correct_momentum).
     ``lr_rigid_sep``: LR separations of each field from the rigid fields (rows empty: the
-    separations ``lr_sep`` serve the rigid partners too)."""
+    separations ``lr_sep`` serve the rigid partners too). Allocates the buffers of the node
+    loop, :func:`_correct_nodes`, which runs without reference counting (interfaces/jit.py)."""
+    m = mass.shape[1]
+    d = mom.shape[2]
+    return _correct_nodes(phase, mass, mom, force, vol, grad, disp, pos, cell, origin, nn, thick,
+                          kind, params, settings, rigid, node_zone, zone_pairs, zone_kind,
+                          zone_params, lr_normal, lr_sep, pair_normal, pair_sep, lr_rigid_sep, df,
+                          dt, nodes, np.empty(m, np.int64), np.zeros((m, d)), np.zeros(m, np.bool_),
+                          np.empty(m, np.int64), np.empty(m, np.int64), np.empty(4), np.empty(d),
+                          np.empty((13, d)))
+
+
+@njit(cache=True, refcount=False)
+def _correct_nodes(phase, mass, mom, force, vol, grad, disp, pos, cell, origin, nn, thick, kind,
+                   params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
+                   lr_normal, lr_sep, pair_normal, pair_sep, lr_rigid_sep, df, dt, nodes, present,
+                   dp, touched, rigid_order, deformable, law, one, work) -> int:
+    """The node loop of :func:`correct_momentum_kernel`, on its buffers."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
     tol = settings[S_MASS_TOL]
@@ -661,14 +678,6 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
     explicit = int(settings[S_THREE_MATERIAL]) == THREE_EXPLICIT
     rigid_sep = lr_rigid_sep if lr_rigid_sep.shape[0] > 0 else lr_sep
     beside_rigid = int(settings[S_SEPARATION]) == SEP_LR
-    present = np.empty(m, dtype=np.int64)
-    dp = np.zeros((m, d))
-    touched = np.zeros(m, dtype=np.bool_)
-    rigid_order = np.empty(m, dtype=np.int64)
-    deformable = np.empty(m, dtype=np.int64)
-    law = np.empty(4)
-    one = np.empty(d)
-    work = np.empty((13, d))
     inv_dt = 1.0 / dt if dt > 0.0 else 0.0
     count = 0
     for ii in range(nodes.shape[0]):
@@ -758,7 +767,7 @@ def _contact_area(i, a, b_only, present, npres, om_a, om_b, area_vol, h, setting
     return omega / h
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol, area_vol, grad,
                      disp, pos, cell, origin, nn, tvol, law, settings, rigid_b, lr_normal, lr_sep, df,
                      dt, f_out, node_out, write_out, work) -> float:
@@ -887,7 +896,7 @@ def _interface_force(i, a, b_only, b_law, present, npres, mass, mom, force, vol,
     return energy
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _deformable_interface_forces(i, fields, nf, mass, mom, force, vol, area_vol, grad, disp, pos, cell,
                                  origin, nn, tvol, kind, params, settings, rigid, node_zone, zone_pairs,
                                  zone_kind, zone_params, lr_normal, lr_sep, df, dt, conserve, fadd,
@@ -942,7 +951,23 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
     ``lr_rigid_sep`` as in :func:`correct_momentum_kernel`. At a node that also sees a
     rigid body the deformable fields first take their forces among themselves (an
     interface ending on a wall keeps its end node), then each its force from the
-    largest rigid partner."""
+    largest rigid partner. Allocates the buffers of the node loop,
+    :func:`_interface_nodes`, which runs without reference counting (interfaces/jit.py)."""
+    m = mass.shape[1]
+    d = mom.shape[2]
+    return _interface_nodes(mass, mom, vol, area_vol, grad, disp, pos, cell, origin, nn, thick,
+                            kind, params, settings, rigid, node_zone, zone_pairs, zone_kind,
+                            zone_params, lr_normal, lr_sep, lr_rigid_sep, df, dt, force, node_out,
+                            nodes, np.empty(m, np.int64), np.empty(m, np.int64), np.zeros((m, d)),
+                            np.empty(4), np.empty(d), np.empty((13, d)))
+
+
+@njit(cache=True, refcount=False)
+def _interface_nodes(mass, mom, vol, area_vol, grad, disp, pos, cell, origin, nn, thick, kind,
+                     params, settings, rigid, node_zone, zone_pairs, zone_kind, zone_params,
+                     lr_normal, lr_sep, lr_rigid_sep, df, dt, force, node_out, nodes, present,
+                     deformable, fadd, law, one, work) -> float:
+    """The node loop of :func:`interface_forces_kernel`, on its buffers."""
     n_nodes, m = mass.shape
     d = mom.shape[2]
     tol = settings[S_MASS_TOL]
@@ -951,12 +976,6 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
     if write_out:
         node_out[:, :] = 0.0
     rigid_sep = lr_rigid_sep if lr_rigid_sep.shape[0] > 0 else lr_sep
-    present = np.empty(m, dtype=np.int64)
-    deformable = np.empty(m, dtype=np.int64)
-    fadd = np.zeros((m, d))
-    law = np.empty(4)
-    one = np.empty(d)
-    work = np.empty((13, d))
     total = 0.0
     for ii in range(nodes.shape[0]):
         i = nodes[ii]
@@ -1001,7 +1020,7 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
     return total
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def stick_limited_kernel(mass, mom, node_out, nodes) -> None:
     """Hold the force-limited directions of this step's interface nodes as stick on
     re-extrapolated momenta (MUSL): a direction limited by 000 Eq 26 is a

@@ -14,7 +14,7 @@ import math
 from interfaces.jit import njit
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _normalise_inplace(out) -> bool:
     s = 0.0
     for k in range(out.shape[0]):
@@ -29,7 +29,7 @@ def _normalise_inplace(out) -> bool:
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def normal_sn(sn_vector, a, b, out) -> bool:
     """Specified normal (SN, 000 Sec 2.5). ``sn_vector`` points from the lower to the
     higher field index, so it is negated when a > b."""
@@ -39,7 +39,7 @@ def normal_sn(sn_vector, a, b, out) -> bool:
     return _normalise_inplace(out)
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def normal_mvg(g_a, g_b, out) -> bool:
     """Maximum volume gradient (MVG, 000 Sec 2.5): the normal of whichever material has
     the larger |g|; a's outward normal g_a, or -g_b (b's outward normal reversed)."""
@@ -57,7 +57,7 @@ def normal_mvg(g_a, g_b, out) -> bool:
     return _normalise_inplace(out)
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def normal_avg(omega_a, g_a, omega_b, g_b, out) -> bool:
     """Average volume gradient (AVG, 000 Sec 2.5): (Omega_a g_a - Omega_b g_b) / (2 Omega)
     normalised (the 1/(2 Omega) factor drops out)."""
@@ -66,7 +66,7 @@ def normal_avg(omega_a, g_a, omega_b, g_b, out) -> bool:
     return _normalise_inplace(out)
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def normal_ag(g_a, g_b, out) -> bool:
     """Average gradient (AG, 004 Eq 13): (g_a - g_b) / |g_a - g_b|."""
     for k in range(out.shape[0]):
@@ -74,7 +74,7 @@ def normal_ag(g_a, g_b, out) -> bool:
     return _normalise_inplace(out)
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def normal_rmvg(g_a, g_b, a_rigid, b_rigid, out) -> bool:
     """Rigid material volume gradient (RMVG, 000 Sec 2.5): the rigid material's own
     normal (g_a if a is rigid, -g_b if b is rigid), MVG when neither is rigid."""
@@ -89,7 +89,7 @@ def normal_rmvg(g_a, g_b, a_rigid, b_rigid, out) -> bool:
     return normal_mvg(g_a, g_b, out)
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def any_tangent(n, out) -> None:
     """A unit vector perpendicular to the unit vector ``n`` (2D: (-n_y, n_x))."""
     if n.shape[0] == 2:
@@ -111,7 +111,7 @@ def any_tangent(n, out) -> None:
     _normalise_inplace(out)
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def h_perp(n, t, cell, method) -> float:
     """Effective thickness h_perp of the contact volume (000 Eq 21-22).
 

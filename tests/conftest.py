@@ -13,6 +13,25 @@ settings.register_profile("ci", derandomize=True, print_blob=True)
 if os.environ.get("CI"):
     settings.load_profile("ci")
 
+#: the thread pools of the BLAS / LAPACK / PARDISO libraries
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
+
+
+def pytest_configure(config):
+    """pytest-xdist runs one worker process per core. Their BLAS and PARDISO thread pools
+    would each start a thread per core, and a pool thread that waits for a core held by
+    the other worker stalls every parallel region it joins: the FEM wave test, 952
+    PARDISO solves, took 88 s beside a compiling worker against 3 s alone. The workers
+    (started after this hook, inheriting the environment) therefore get cores / workers
+    threads each, unless the variables are already set. numba's own pool is left as it
+    is: its tests of thread-count independence need two threads."""
+    workers = getattr(config.option, "numprocesses", None)
+    if not isinstance(workers, int) or workers < 2 or os.environ.get("PYTEST_XDIST_WORKER"):
+        return
+    threads = str(max(1, (os.cpu_count() or 1) // workers))
+    for name in THREAD_VARIABLES:
+        os.environ.setdefault(name, threads)
+
 
 class _InterruptAfter:
     """Stands for the Ctrl-C flag of an MPM run (mpm.solver._InterruptFlag): raised when
