@@ -102,7 +102,7 @@ def corner_weights(cx, cy, origin, cell, nn, base):
     return i0, j0, n, w0, w1, w2, q0, q1, q2
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def shape_cpdi(p, x, F, hw, origin, cell, nn, kind, idx, S, G) -> int:
     """Nodes, S_ip and grad S_ip of particle p, one entry per (corner, node): a node
     touched by several corners appears several times (its S and G are the sums).
@@ -153,7 +153,7 @@ def p2g_cpdi(x, v, pmass, pvol, stress, field, x0, F, hw, fext, foff, foff0, loa
     return -1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def scatter_cpdi(lo, hi, x, v, pmass, pvol, stress, field, x0, F, hw, origin, cell, nn,
                  kind, multi, internal, mass, mom, force, volume, volgrad, disp, pos):
     """Scatter of particles lo..hi-1 corner by corner, added to the nodal arrays."""
@@ -199,7 +199,7 @@ def scatter_cpdi(lo, hi, x, v, pmass, pvol, stress, field, x0, F, hw, origin, ce
     return -1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def traction_weights_cpdi(p, x, F, hw, foff, foff0, origin, cell, nn, kind, tidx, tw) -> int:
     """Nodes and weights carrying the traction of particle p (``tidx``, ``tw``: >= 36,
     one entry per (point, node); returns their number).
@@ -258,7 +258,7 @@ def tractions_cpdi(x, field, fext, foff, foff0, F, hw, load_scale, origin, cell,
                 force[tidx[k], f, 1] += tw[k] * fext[p, 1] * load_scale
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def internal_force_cpdi(x, pvol, stress, field, F, hw, origin, cell, nn, kind, force):
     """USF second pass: add -V_p sigma_p . grad S_ip to ``force``."""
     nx = nn[0]
@@ -281,7 +281,7 @@ def internal_force_cpdi(x, pvol, stress, field, F, hw, origin, cell, nn, kind, f
                     force[node, f, 1] -= stress[p, 2] * Gx + stress[p, 1] * Gy
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def momentum_cpdi(x, v, pmass, field, F, hw, origin, cell, nn, kind, mass, mom):
     """MUSL: mass and momentum of the updated particles re-extrapolated (start-of-step
     domains)."""
@@ -444,7 +444,7 @@ def g2p_cpdi(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, foff0,
     return ke, U, work, lost, ke_grid
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def stress_cpdi(x, pvol, pvol0, stress, strain, field, foff, foff0, F, hw, C, origin, cell,
                 nn, kind, dt, mass, mom, velgrad, mkind) -> float:
     """USF / MUSL stress update with L = sum (p_i / m_i) (x) grad S_ip of the particle's

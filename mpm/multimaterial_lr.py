@@ -60,7 +60,7 @@ SUPPORT_MAX = 64
 WIDE_MAX = 4096
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _solve_small(M, r, x) -> bool:
     """Gaussian elimination with partial pivoting for a (D+1) x (D+1) system M x = r
     (``M`` and ``r`` are overwritten: callers assemble them afresh)."""
@@ -152,7 +152,7 @@ def logistic_plane(xs, cls, n_pts, penalty, normal) -> int:
     return it
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _particle_radius(n, r0, F, p, has_F) -> float:
     """R_p of 004 Eq 25: distance along n to the particle's inscribed deformed ellipse
     (n0 = F^-1 n by cofactors, 2D and 3D)."""
@@ -206,7 +206,7 @@ def _corner_base(p, c, x, r0, F, deform, b2, origin, cell, corner, base, on_line
         on_line[k] = not b2 and t == base[k]
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _support_nodes(p, x, r0, F, deform, kind, origin, cell, nn, out, corner, base,
                    on_line) -> int:
     """The nodes where the CPDI (``kind`` CPDI) or B2-CPDI shape function of particle p
@@ -278,7 +278,7 @@ def _reaching_bases(nodes, width, nn):
     return flag
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _reaches(p, x, r0, F, deform, b2, origin, cell, nn, flag, corner, base, on_line) -> bool:
     """Whether some corner of particle p's domain has a stencil base flagged by
     :func:`_reaching_bases` (a cheap superset test before :func:`_support_nodes`)."""
@@ -432,7 +432,7 @@ def _in_class_b(f, a, b, rigid, mass, i, tol, mtot) -> bool:
     return mass[i, f] > tol * mtot
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _class_counts(cloud, field, a, b, rigid, mass, i, tol, mtot):
     """Points of class -1 (material a) and +1 (b, or the lump of the others) in ``cloud``."""
     na = 0

@@ -90,7 +90,7 @@ def _stencil(xp, origin, cell, nn, lp, kind, i0, w, idx, wt) -> bool:
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def start_fields(mass, mom, work) -> None:
     """After the initial contact correction: v_alpha = p_alpha / m_alpha into slot V0
     and Delta v_alpha = (p_alpha - p_alpha0) / m_alpha into DV (``work[DV]`` holds the
@@ -162,7 +162,7 @@ def _window_scatter(wf, slot, k, st, srow, w0, w1, w2, q0, q1, q2, a0, a1) -> No
             wf[slot, c + 1] += s * a1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def _scatter_2d(node, wgt, pmass, nx, M, wf, src, dst, pair, band) -> None:
     """The particle loop of :func:`scatter_passes` in 2D on the step's stencils (``wf``:
     the work slots, each flat): dst += sum_p m_p S_ip (S src)_p per field, unnormalised,
@@ -263,7 +263,7 @@ def stencils_cpdi(x, F, hw, origin, cell, nn, kind, node, wgt) -> None:
         node[p, 0] = shape_cpdi(p, x, F, hw, origin, cell, nn, kind, node[p, 1:], wgt[p], G)
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def _scatter_list(node, wgt, pmass, field, work, src, dst, pair) -> None:
     """The particle loop of :func:`scatter_passes` on node lists (CPDI shapes, 2D; ``pair``
     as in :func:`_scatter_2d`)."""
@@ -292,7 +292,7 @@ def _scatter_list(node, wgt, pmass, field, work, src, dst, pair) -> None:
                 work[pair[1], n, f, 1] += w * b1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def _gather_list(node, wgt, field, work, nvel, out) -> None:
     """:func:`gather_particles` on node lists (CPDI shapes, 2D)."""
     for p in range(node.shape[0]):
@@ -369,7 +369,7 @@ def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind
     _finish(wf, nacc.reshape(-1), m, dt)
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def _series_terms(wf, inv, D, cv, sign) -> None:
     """After the pass k: v*_k = cv S+ S v*_{k-1} (VN over the nodal mass, Eq 43) into VK,
     added with its sign to the sum v*_alpha in VS (Eq 42)."""
@@ -379,7 +379,7 @@ def _series_terms(wf, inv, D, cv, sign) -> None:
         wf[VS, e] += sign * vk
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def _series_terms_dv(wf, inv, D, cv, sign, cdv, cd) -> None:
     """:func:`_series_terms` with the Delta v terms: the sum also takes cdv Delta v*_{k-1}
     (Eq 42) and, with ``cd`` != 0, Delta v*_k = cd S+ S Delta v*_{k-1} (DN, Eq 44) goes
@@ -392,14 +392,14 @@ def _series_terms_dv(wf, inv, D, cv, sign, cdv, cd) -> None:
             wf[DK, e] = cd * inv[e // D] * wf[DN, e]
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
 def _finish(wf, acc, m, dt) -> None:
     """v~ = m (v_alpha - v*_alpha) + a_alpha dt into VS (Eq 41)."""
     for e in range(wf.shape[1]):
         wf[VS, e] = m * (wf[V0, e] - wf[VS, e]) + acc[e] * dt
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def keep_conditioned(work, nvel, bc_node, bc_field, bc_comp, g_node, g_field) -> None:
     """v~ = v+ on the components held by velocity conditions and on B2 ghost nodes."""
     for c in range(bc_node.shape[0]):
@@ -445,7 +445,7 @@ def _gather_particles_any(x, field, origin, cell, nn, lp, kind, work, nvel, out)
                 out[1, p, d] += wt[c] * (vt - nvel[n, f, d])
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def blend_particles(beta, dt, pmass, v, x, out):
     """V <- (1 - beta) V_FLIP + beta S v~, x += beta dt S (v~ - v+) (the FLIP update and
     x += dt S v+ already done by G2P) from the extrapolations ``out`` of
