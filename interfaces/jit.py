@@ -26,8 +26,13 @@ from __future__ import annotations
 
 from numba import njit as _numba_njit
 from numba import types
+from numba.core.cpu import CPUTargetOptions
 from numba.core.errors import TypingError
 from numba.core.registry import CPUDispatcher
+
+#: numba's (private) ``_nrt`` option exists; without it ``refcount`` is ignored and the
+#: kernels keep their reference counting (slower, the same results)
+HAS_NRT_OPTION = hasattr(CPUTargetOptions, "_nrt")
 
 
 class NonLiteralDispatcher(CPUDispatcher):
@@ -48,7 +53,7 @@ def njit(*args, refcount: bool | None = None, **options):
     """``numba.njit`` (same arguments, bare or called) returning a
     :class:`NonLiteralDispatcher`; ``refcount`` False / True compiles without / with
     numba's reference counting (module docstring), None inherits it from the caller."""
-    if refcount is not None:
+    if refcount is not None and HAS_NRT_OPTION:
         options["_nrt"] = bool(refcount)
     if args and callable(args[0]):
         return _as_non_literal(_numba_njit(*args, **options))

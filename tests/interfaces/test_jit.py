@@ -11,7 +11,7 @@ import pytest
 from numba.core.errors import TypingError
 from numba.core.registry import CPUDispatcher
 
-from interfaces.jit import NonLiteralDispatcher, njit
+from interfaces.jit import HAS_NRT_OPTION, NonLiteralDispatcher, njit
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -85,6 +85,7 @@ def _views(a, w):
     return s
 
 
+@pytest.mark.skipif(not HAS_NRT_OPTION, reason="this numba has no _nrt option")
 def test_refcount_false_compiles_views_without_reference_counting():
     """interfaces.jit ``refcount=False``: the same results, and no NRT_incref / NRT_decref
     left in the machine code of a function that takes views in a loop (numba's default
@@ -99,6 +100,7 @@ def test_refcount_false_compiles_views_without_reference_counting():
     assert not borrowed.targetoptions["_nrt"]
 
 
+@pytest.mark.skipif(not HAS_NRT_OPTION, reason="this numba has no _nrt option")
 def test_refcount_false_refuses_to_allocate_and_a_callee_may_opt_back_in():
     """An allocation in a kernel compiled without reference counting is a compile error
     (never a leak), also in a callee that inherits the setting; a callee that states
