@@ -671,7 +671,6 @@ def _correct_nodes(phase, mass, mom, force, vol, grad, disp, pos, cell, origin, 
                    lr_normal, lr_sep, pair_normal, pair_sep, lr_rigid_sep, df, dt, nodes, present,
                    dp, touched, rigid_order, deformable, law, one, work) -> int:
     """The node loop of :func:`correct_momentum_kernel`, on its buffers."""
-    n_nodes, m = mass.shape
     d = mom.shape[2]
     tol = settings[S_MASS_TOL]
     conserve = settings[S_LUMP_CONSERVE] != 0.0
@@ -968,7 +967,7 @@ def _interface_nodes(mass, mom, vol, area_vol, grad, disp, pos, cell, origin, nn
                      lr_normal, lr_sep, lr_rigid_sep, df, dt, force, node_out, nodes, present,
                      deformable, fadd, law, one, work) -> float:
     """The node loop of :func:`interface_forces_kernel`, on its buffers."""
-    n_nodes, m = mass.shape
+    n_nodes = mass.shape[0]
     d = mom.shape[2]
     tol = settings[S_MASS_TOL]
     conserve = settings[S_LUMP_CONSERVE] != 0.0
