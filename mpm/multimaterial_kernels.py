@@ -45,6 +45,10 @@ LIGHT_FIELD_RATIO = 1e-6
 #: two are perpendicular and their dot product is round-off of either sign
 PERPENDICULAR_COSINE = 1e-9
 
+#: rows of the per-node scratch vectors ``work`` the node kernels share (work[0] .. work[12])
+WORK_ROWS = 13
+
+
 @njit(cache=True, inline="always")
 def _dot(u, v) -> float:
     s = 0.0
@@ -662,7 +666,7 @@ def correct_momentum_kernel(phase, mass, mom, force, vol, grad, disp, pos, cell,
                           zone_params, lr_normal, lr_sep, pair_normal, pair_sep, lr_rigid_sep, df,
                           dt, nodes, np.empty(m, np.int64), np.zeros((m, d)), np.zeros(m, np.bool_),
                           np.empty(m, np.int64), np.empty(m, np.int64), np.empty(4), np.empty(d),
-                          np.empty((13, d)))
+                          np.empty((WORK_ROWS, d)))
 
 
 @njit(cache=True, refcount=False)
@@ -958,7 +962,7 @@ def interface_forces_kernel(mass, mom, vol, area_vol, grad, disp, pos, cell, ori
                             kind, params, settings, rigid, node_zone, zone_pairs, zone_kind,
                             zone_params, lr_normal, lr_sep, lr_rigid_sep, df, dt, force, node_out,
                             nodes, np.empty(m, np.int64), np.empty(m, np.int64), np.zeros((m, d)),
-                            np.empty(4), np.empty(d), np.empty((13, d)))
+                            np.empty(4), np.empty(d), np.empty((WORK_ROWS, d)))
 
 
 @njit(cache=True, refcount=False)
