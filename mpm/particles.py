@@ -113,24 +113,37 @@ def side_particles(case, particles: Particles, body_name: str, side: str) -> tup
     """Indices of the particles of ``body_name`` in the first row along ``side``.
 
     A particle is on the side when its centre lies within half a particle spacing of
-    it (measured along the side's normal). Returns (indices, side length or area).
+    it (measured along the side's normal). A side along the grid axes that is off the
+    particle lattice (e.g. a 35 mm strip at 0.15 mm spacing: the last centres are
+    0.125 mm inside) has the row nearest to it, whose centres lie up to one spacing
+    inside. Returns (indices, side length or area).
     """
     names = [b.name for b in case.bodies]
     if body_name not in names:
         raise CaseError(f"boundary body {body_name!r} is not one of the bodies {names}")
     b = names.index(body_name)
     shape = case.bodies[b].shape
-    if not hasattr(shape, "edge_mask"):
-        raise CaseError(f"boundary side {side!r} of body {body_name!r}: sides exist only on "
-                        f"Rectangle/Box shapes, got {type(shape).__name__}")
+    if not hasattr(shape, "edge_normal"):
+        raise CaseError(f"boundary side {side!r} of body {body_name!r}: mpm loads and measures "
+                        f"sides of Rectangle/Box shapes only, got {type(shape).__name__}")
     normal = np.asarray(shape.edge_normal(side), float)
-    tol = 0.5 * float(np.abs(normal) @ particles.spacing) * (1.0 + 1e-6)
+    spacing = float(np.abs(normal) @ particles.spacing)
     own = np.flatnonzero(particles.field == b)
-    mask = shape.edge_mask(particles.x0[own], side, tol)
+    mask = shape.edge_mask(particles.x0[own], side, 0.5 * spacing * (1.0 + 1e-6))
+    aligned = np.count_nonzero(np.abs(normal) > 1e-12) == 1
+    if not mask.any() and aligned and own.size:
+        # the side is off the particle lattice: the nearest row, within one spacing
+        axis, is_max = shape._side(side)
+        q = shape.to_local(particles.x0[own])[:, axis]
+        inside = float(np.min(shape.size[axis] - q if is_max else q))
+        if inside <= spacing * (1.0 + 1e-6):
+            mask = shape.edge_mask(particles.x0[own], side, inside + 0.5 * spacing)
     idx = own[mask]
     if idx.size == 0:
-        raise CaseError(f"no particle of body {body_name!r} lies on side {side!r}")
+        raise CaseError(f"no particle of body {body_name!r} lies within one particle spacing "
+                        f"({spacing:g} mm) of side {side!r}: refine the grid (mpm cell)")
     return idx, float(shape.edge_length(side))
+
 
 
 def _equivalent_shares(shape, side: str, points: np.ndarray, traction: np.ndarray,

@@ -142,6 +142,19 @@ def test_traction_total_force_and_edge_offset():
     np.testing.assert_allclose(pt.x[loaded, 1] + pt.foff[loaded, 1], 2.0)
 
 
+
+def test_traction_on_a_side_off_the_particle_lattice_loads_the_outermost_row():
+    # height 2.1 at 0.25 mm spacing: the top centres are 0.225 mm below the side,
+    # beyond half a spacing (0.125), where a side on the lattice has its first row
+    case = _block_case(height=2.1, traction=(0.0, 1.0), thickness=3.0)
+    pt = generate(case, Grid.around(*case.bounds(), 0.5, anchor=(0.0, 0.0)), 2)
+    loads = apply_tractions(case, pt, 2)
+    loaded = np.any(pt.fext != 0, axis=1)
+    np.testing.assert_allclose(pt.x[loaded, 1], pt.x[:, 1].max())
+    assert np.count_nonzero(loaded) == 16
+    np.testing.assert_allclose(loads[0]["force"], [0.0, 4.0 * 3.0])
+    np.testing.assert_allclose(pt.fext.sum(axis=0), [0.0, 4.0 * 3.0])
+
 # -------------------------------------------------------------- P2G -----
 
 def test_p2g_conserves_mass_momentum_and_applied_force():
