@@ -13,9 +13,9 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from interfaces import Case, CaseError, SolverError
+from interfaces import Case
 
-from .methods import resolve_methods, run
+from .methods import failure_text, resolve_methods, run
 
 
 #: model variants the table shows beside a quantity: (variant quantity, quantity, label)
@@ -144,7 +144,8 @@ def compare(case: Case, methods="all", options: dict | None = None, progress: bo
 
     ``options`` maps a method name to keyword options of its ``solve``. With
     ``skip_unavailable`` a method that is unavailable, does not handle the case or
-    fails with a CaseError/SolverError is reported in ``failures``, not raised.
+    fails (bad input, divergence, or any other exception: :func:`failure_text`) is
+    reported in ``failures``, not raised.
     ``finished`` holds Results already computed (a resumed run: not run again);
     ``on_result(method, result)`` is called as each method finishes.
     """
@@ -161,14 +162,15 @@ def compare(case: Case, methods="all", options: dict | None = None, progress: bo
             print(f"[{m}] running {case.name} ...", file=sys.stderr, flush=True)
         try:
             results[m] = run(case, m, **options.get(m, {}))
-        except (CaseError, SolverError) as e:
-            # a method that is missing, does not handle this case yet, or failed: report it
-            # beside the others' results rather than losing them (raise if asked to)
+        except Exception as e:
+            # a method that is missing, does not handle this case yet, or failed (bad input,
+            # divergence, or a defect): report it beside the others' results rather than
+            # losing them (raise if asked to)
             if not skip_unavailable:
                 raise
-            failures[m] = str(e)
+            failures[m] = failure_text(e)
             if progress:
-                print(f"[{m}] not run: {e}", file=sys.stderr, flush=True)
+                print(f"[{m}] not run: {failures[m]}", file=sys.stderr, flush=True)
             continue
         if on_result is not None:
             on_result(m, results[m])

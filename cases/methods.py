@@ -3,9 +3,11 @@ from __future__ import annotations
 
 import importlib
 import time
+import traceback
+from pathlib import Path
 from typing import Callable
 
-from interfaces import Case, CaseError, Result
+from interfaces import Case, CaseError, Result, SolverError
 
 SOLVERS = {
     "analytic": ("interfaces.analytic", "solve"),
@@ -82,3 +84,15 @@ def run(case: Case, method: str, **options) -> Result:
     result = solve(case, **options)
     result.timings.setdefault("total", time.perf_counter() - t0)
     return result
+
+
+def failure_text(error: Exception) -> str:
+    """What a method's failure tells the user: the message of a CaseError / SolverError
+    (bad input, unsupported, diverged), else the exception's type, message and the line
+    that raised it (a defect, or a library giving up; the other methods' results and
+    sweep points are kept either way)."""
+    if isinstance(error, (CaseError, SolverError)):
+        return str(error)
+    where = traceback.extract_tb(error.__traceback__)[-1] if error.__traceback__ else None
+    at = f" (at {Path(where.filename).name}:{where.lineno})" if where else ""
+    return f"{type(error).__name__}: {error}{at}"

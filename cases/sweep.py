@@ -18,15 +18,14 @@ import math
 import os
 import sys
 import time
-import traceback
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from interfaces import CaseError, SolverError
+from interfaces import CaseError
 from interfaces.case import encode_values
 
-from .methods import resolve_methods, run
+from .methods import failure_text, resolve_methods, run
 from .output import atomic_write_text
 from .registry import build
 from .resume import with_mpm_checkpoint
@@ -50,11 +49,8 @@ def run_point(case_name: str, overrides: dict, methods: list, options: dict) -> 
             out[m] = {"quantities": {k: v for k, v in r.quantities.items()
                                      if isinstance(v, (int, float)) and not isinstance(v, bool)},
                       "time": r.timings.get("total", math.nan)}
-        except (CaseError, SolverError) as e:   # bad input, unsupported, diverged: say why
-            out[m] = {"error": str(e)}
-        except Exception as e:                  # a bug: keep the point, show where
-            where = traceback.extract_tb(e.__traceback__)[-1]
-            out[m] = {"error": f"{type(e).__name__}: {e} (at {Path(where.filename).name}:{where.lineno})"}
+        except Exception as e:                  # say why, keep the point and the other methods
+            out[m] = {"error": failure_text(e)}
     return out
 
 

@@ -152,7 +152,9 @@ def build_mesh(case, element_size, grid_limit: float = 2e8) -> BodyMesh:
     bx, by = _merge(allpts[:, 0], tol), _merge(allpts[:, 1], tol)
     grid_nodes = float(np.ceil(np.diff(bx) / hx - 1e-9).sum() + 1) * float(np.ceil(np.diff(by) / hy - 1e-9).sum() + 1)
     if grid_nodes > grid_limit:   # before any grid array exists (each grid node costs ~100 bytes here)
-        check_size(grid_nodes * 8, element_size, 0.0)
+        raise CaseError(f"element_size = {element_size} mm gives a grid of about {grid_nodes:.3g} nodes "
+                        f"over the bodies' extent, above {grid_limit:.3g}: use a larger element_size (h) "
+                        "or raise max_dofs")
     xs = _subdivide(bx, hx)
     ys = _subdivide(by, hy)
     if diag:   # the same lines in x and y so that the diagonals pass through grid nodes

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from interfaces import (Body, BoundaryCondition, Case, CaseError, IsotropicElastic, Rectangle,
-                        Circle, SolverError)
+                        Circle, Ellipse, SolverError)
 import mpm
 from mpm import kernels as K
 from mpm.grid import Grid, NodalFields
@@ -155,6 +155,16 @@ def test_traction_on_a_side_off_the_particle_lattice_loads_the_outermost_row():
     np.testing.assert_allclose(loads[0]["force"], [0.0, 4.0 * 3.0])
     np.testing.assert_allclose(pt.fext.sum(axis=0), [0.0, 4.0 * 3.0])
 
+
+def test_traction_on_an_ellipse_curve_is_refused_by_mpm_naming_the_side():
+    mat = IsotropicElastic(E=1000.0, nu=0.25, rho=2e-9)
+    case = Case(name="e", analysis="plane_stress", thickness=1.0, materials={"m": mat},
+                bodies=[Body("b", Ellipse(0.0, 0.0, 2.0, 1.0), "m")],
+                boundary_conditions=[BoundaryCondition("traction", "b", "boundary", ("x", "y"),
+                                                       (0.0, 1.0))])
+    with pytest.raises(CaseError, match="side 'boundary' of body 'b'.*Rectangle/Box"):
+        mpm.solve(case, cell=0.5, progress=False, max_time=1e-6)
+
 # -------------------------------------------------------------- P2G -----
 
 def test_p2g_conserves_mass_momentum_and_applied_force():
@@ -263,3 +273,20 @@ def test_misspelled_option_is_refused_listing_the_valid_ones():
     """--option mpm.force_limting=false used to run silently with force limiting on."""
     with pytest.raises(CaseError, match=r"mpm option 'force_limting' is unknown; options: .*force_limiting"):
         mpm.solve(_block_case(), cell=0.5, force_limting=False, progress=False)
+
+
+def test_dcb_grid_reaches_the_opened_arms():
+    """The DCB's arms open by several millimetres at the case's load (002 Eq B.3): the MPM
+    grid reaches beyond each arm's load-point deflection, with the ramp's overshoot
+    (particles left the grid of 3 empty cells during the ramp)."""
+    import cases
+    from interfaces.analytic.dcb import dcb_deflection
+    from mpm.options import merge
+    from mpm.solver import Model
+    for kw in ({"mpm_cell": 0.3}, {"mpm_cell": 0.3, "Dn": 0.3}):
+        case = cases.build("dcb", **kw)
+        grid = Model(case, merge(case, {})).grid
+        tip = float(dcb_deflection(-25.0, 25.0, 0.6, 10.0, 10000.0, kw.get("Dn", math.inf),
+                                   7808.0, 1.0))
+        top = grid.origin[1] + grid.cell[1] * (grid.nn[1] - 1)
+        assert grid.origin[1] <= -1.4 * tip and top >= 1.2 + 1.4 * tip
