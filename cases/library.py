@@ -256,7 +256,7 @@ def dcb(Dn: float = math.inf, a: float = 25.0, length: float = 50.0, h: float = 
     # the arms open by P C (002 Eq 46-47; 5.9 mm at the defaults), each by half of it and
     # up to ~1.4x that while the load ramps up: the MPM grid reaches P C beyond the arms,
     # or particles leave it (with the default 3 cells of padding they did at 0.7 ms)
-    opening = P * dcb_compliance(a, h, W, 10000.0, Dn, kb)
+    opening = P * dcb_compliance(a, h, W, wood.E_A, Dn, kb)
     padding = min(100, 3 + math.ceil(opening / mpm_cell)) if math.isfinite(opening) else 100
     return Case(
         name="dcb", analysis="plane_stress", thickness=W,
@@ -268,7 +268,7 @@ def dcb(Dn: float = math.inf, a: float = 25.0, length: float = 50.0, h: float = 
         discretization={"fem": {"element_size": fem_h, "order": 2},
                         "mpm": {"cell": mpm_cell, "ppc": mpm_ppc, "ramp_time": ramp, "normal": "SN",
                                 "normal_vector": [0.0, 1.0], "padding": padding}},
-        analytic={"model": "dcb_beam_foundation", "a": a, "h": h, "W": W, "E_xx": 10000.0, "Dn": Dn, "kb": kb,
+        analytic={"model": "dcb_beam_foundation", "a": a, "h": h, "W": W, "E_xx": wood.E_A, "Dn": Dn, "kb": kb,
                   "P": P, "origin": [a, h], "axis": [1.0, 0.0], "x_max": length - a},
         reference="analytic",
         lines={"upper_arm": [[0.0, 1.5 * h], [length, 1.5 * h]]},
