@@ -512,6 +512,17 @@ class Equations:
         return StepFailure(lam, residuals, reason)
 
 
+#: a Newton update below this many ulps of the largest reference coordinate cannot move a
+#: point (x = X + u is rounded to them): the residual has reached its round-off floor
+ROUNDOFF_ULPS = 64.0
+
+
+def below_roundoff(du: np.ndarray, X: np.ndarray) -> bool:
+    """True when every component of ``du`` is below :data:`ROUNDOFF_ULPS` ulps of max |X|."""
+    return float(np.max(np.abs(du), initial=0.0)) <= \
+        ROUNDOFF_ULPS * np.finfo(np.float64).eps * float(np.max(np.abs(X), initial=0.0))
+
+
 def newton_at_load(eq: Equations, v: np.ndarray, lam1: float, scale: float | None, opts: NewtonOptions,
                    contraction: list):
     """Newton iterations at the fixed load factor ``lam1`` from the start ``v`` (fixed DOFs
@@ -551,6 +562,12 @@ def newton_at_load(eq: Equations, v: np.ndarray, lam1: float, scale: float | Non
             return eq.failure(lam1, res_hist, f"singular tangent ({e})")
         if not np.all(np.isfinite(du)):
             return eq.failure(lam1, res_hist, "non-finite Newton increment (singular tangent)")
+        if len(res_hist) > 1 and res_hist[-1] > 0.5 * res_hist[-2] and below_roundoff(du, eq.system.X):
+            # the residual stagnates at its floor: a load tiny against the stiffness (a
+            # two-layer block at 1e-3 of its stress) leaves round-off above tol x scale,
+            # and line searches and step cuts then ran for minutes before failing
+            eq.note(f"load {lam1:.4g}: the Newton update is below the round-off of the positions")
+            return v, res_hist, ev, (steps, times)
         # full Newton step, evaluated with the tangent (reused by the next iteration
         # when accepted) unless the step is expected to converge: the next residual
         # predicted from the quadratic constant seen so far is below 0.1 tol (the

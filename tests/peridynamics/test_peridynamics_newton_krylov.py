@@ -203,3 +203,22 @@ def test_single_precision_factors_keep_the_newton_history():
     assert np.all((diff <= allowed) | (b[2:] < 1e-11))
     scale = np.abs(double.u).max()
     assert np.abs(single.u - double.u).max() < 1e-13 * scale          # measured 2.3e-14
+
+
+def test_a_load_tiny_against_the_stiffness_converges_at_the_residual_round_off_floor():
+    """CPD is linear in the small-load limit: the two-layer block's energies scale with
+    the stress squared. At 1e-3 of the paper's stress and below, the residual's round-off
+    lies above tol x its first value; the solve stops when the Newton update can no longer
+    move a point (it ran line searches and step cuts for over ten minutes before)."""
+    import cases
+    import peridynamics
+
+    def per_stress2(stress):
+        q = peridynamics.solve(cases.build("two_layer", stress=stress)).quantities
+        return np.array([q["interface_energy"], q["strain_energy"]]) / stress ** 2
+
+    ref = per_stress2(5e-3)
+    # measured: 6.1e-5 / 5.1e-6 (5e-4) and 4.5e-5 / 4.0e-6 (5e-7) from 5e-3, the load's
+    # own geometric nonlinearity (0.5 MPa is 0.67 % / 0.06 % off the small-load limit)
+    for stress in (5e-4, 5e-7):
+        np.testing.assert_allclose(per_stress2(stress), ref, rtol=2.5e-4)
