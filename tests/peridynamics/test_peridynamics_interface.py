@@ -99,6 +99,21 @@ def test_stiff_springs_tend_to_the_shared_dof_coupling():
     assert de[2] < 1e-4
 
 
+def test_very_stiff_springs_converge_at_the_round_off_floor_and_keep_the_1_over_D_trend():
+    """D h / mu = 2.8e5 .. 2.8e9: the ill-conditioned tangent puts the residual's round-off
+    floor above tol = 1e-11, where Newton used to cut steps and fail. It now stops at the
+    floor (peridynamics.newton.below_roundoff), and the energy still departs from the
+    shared-DOF coupling like 1/D (measured 7.186e-8, 7.186e-10, 7.194e-12: the trend of
+    the test above, 7.4e-5 at D = 1e-2, continued)."""
+    base = dict(parameter_set=3, load_case=3, interface="vertical")
+    opts = dict(h=0.1, overlap=1.0, calibration="lattice")
+    e0 = peridynamics.solve(library.bimaterial_square(**base), **opts).quantities["strain_energy"]
+    de = [abs(peridynamics.solve(library.bimaterial_square(Dn=D, Dt=D, **base), **opts)
+              .quantities["strain_energy"] / e0 - 1) for D in (10.0, 1e3, 1e5)]
+    assert 99.0 < de[0] / de[1] < 101.0 and 95.0 < de[1] / de[2] < 105.0
+    assert 6.5e-8 < de[0] < 8e-8
+
+
 @pytest.mark.parametrize("law,word", [(BilinearNormalInterface(Dn_tension=1.0, Dt=1.0), "BilinearNormalInterface"),
                                       (CoulombFriction(0.3), "CoulombFriction")])
 def test_laws_cpd_cannot_represent_are_refused(law, word):
