@@ -19,7 +19,7 @@ from interfaces import Case, CaseError, SolverError
 from . import registry
 from . import fit
 from .compare import compare
-from .methods import supported_methods
+from .methods import OUT_OF_MEMORY, supported_methods
 from .output import RUN_OUTPUTS, check_output_dir, staged_output
 from .plots import plot_comparison, plot_sweep
 from .resume import RunRecord
@@ -297,7 +297,7 @@ def main(argv=None) -> int:
         sys.stderr.close()
         return 0
     except MemoryError:
-        print("error: out of memory: use a coarser discretization (element_size, cell, h)", file=sys.stderr)
+        print(f"error: {OUT_OF_MEMORY}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         if args.command == "sweep":

@@ -86,6 +86,10 @@ def run(case: Case, method: str, **options) -> Result:
     return result
 
 
+#: what a run that exhausts the memory is told (one method of a comparison, or the command)
+OUT_OF_MEMORY = "out of memory: use a coarser discretization (element_size, cell, h)"
+
+
 def failure_text(error: Exception) -> str:
     """What a method's failure tells the user: the message of a CaseError / SolverError
     (bad input, unsupported, diverged), else the exception's type, message and the line
@@ -93,6 +97,8 @@ def failure_text(error: Exception) -> str:
     sweep points are kept either way)."""
     if isinstance(error, (CaseError, SolverError)):
         return str(error)
+    if isinstance(error, MemoryError):
+        return OUT_OF_MEMORY
     where = traceback.extract_tb(error.__traceback__)[-1] if error.__traceback__ else None
     at = f" (at {Path(where.filename).name}:{where.lineno})" if where else ""
     return f"{type(error).__name__}: {error}{at}"

@@ -145,7 +145,6 @@ def side_particles(case, particles: Particles, body_name: str, side: str) -> tup
     return idx, float(shape.edge_length(side))
 
 
-
 def _equivalent_shares(shape, side: str, points: np.ndarray, traction: np.ndarray,
                        length: float) -> np.ndarray:
     """Side lengths carried by the loaded particles of a 2D side that cuts the particle

@@ -182,3 +182,13 @@ def test_a_method_failing_unexpectedly_is_reported_and_the_others_kept(tmp_path,
     err = capsys.readouterr().err
     assert "[fem] not run: RuntimeError: inverse mapping did not converge" in err
     assert (tmp_path / "o" / "results.json").exists()
+
+
+def test_a_method_out_of_memory_says_to_coarsen_and_the_others_are_kept(monkeypatch):
+    import cases.compare as C
+    real = C.run
+    monkeypatch.setattr(C, "run", lambda case, m, **o: (_ for _ in ()).throw(MemoryError())
+                        if m == "fem" else real(case, m, **o))
+    comp = compare(cases.build("dls"), "fem,analytic", progress=False)
+    assert set(comp.results) == {"analytic"}
+    assert comp.failures["fem"] == "out of memory: use a coarser discretization (element_size, cell, h)"
