@@ -356,7 +356,8 @@ def _solve_symmetric(Kr: sp.csr_matrix, fr: np.ndarray, allow_indefinite: bool,
     if negative_pivots > 0 and not allow_indefinite:
         raise SolverError(f"the stiffness matrix has {negative_pivots} negative pivots although all interface "
                           "parameters are >= 0: a body or part of it can move freely (add supports or give "
-                          "debonded interfaces some stiffness), or the material constants are not positive definite")
+                          "debonded interfaces some stiffness), the elements are too coarse for the bodies (a "
+                          "smaller element_size), or the material constants are not positive definite")
     q = linear_solver.solve(fr)
     q = q + linear_solver.solve(fr - Kr @ q)
     res = _backward_error(Kr, q, fr)

@@ -422,3 +422,12 @@ def test_rigid_mode_pins_need_no_memory_quadratic_in_the_prescribed_dofs():
     assert len(pins) == 1 and pins[0] >= 20000
     held = modes[np.concatenate([np.arange(20000), pins])]
     assert np.linalg.matrix_rank(held) == 3
+
+
+def test_elements_larger_than_the_specimen_are_named_in_the_refusal():
+    """A DCB meshed with 60 mm elements (the specimen is 50 mm long) has two negative
+    pivots; the refusal names the element size besides free motion and the material."""
+    from interfaces.errors import SolverError
+    with pytest.raises(SolverError, match=r"negative pivots .* too coarse for the bodies \(a smaller element_size\)"):
+        fem.solve(dcb(), h=60.0)
+    assert fem.solve(dcb(), h=30.0).quantities["stiffness"] > 0
