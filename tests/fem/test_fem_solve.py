@@ -10,7 +10,7 @@ from cases.library import dcb, dls, wood_strand
 from interfaces.analytic.dcb import dcb_kb_from_stiffness, dcb_stiffness
 from interfaces.analytic.dls import dls_identical_stiffness
 from interfaces.case import Body, BoundaryCondition, Case, InterfacePair
-from interfaces.errors import CaseError
+from interfaces.errors import CaseError, SolverError
 from interfaces.geometry import Circle, Rectangle
 from interfaces.laws import LinearInterface, StickContact
 from interfaces.materials import IsotropicElastic
@@ -427,7 +427,6 @@ def test_rigid_mode_pins_need_no_memory_quadratic_in_the_prescribed_dofs():
 def test_elements_larger_than_the_specimen_are_named_in_the_refusal():
     """A DCB meshed with 60 mm elements (the specimen is 50 mm long) has two negative
     pivots; the refusal names the element size besides free motion and the material."""
-    from interfaces.errors import SolverError
     with pytest.raises(SolverError, match=r"negative pivots .* too coarse for the bodies \(a smaller element_size\)"):
         fem.solve(dcb(), h=60.0)
     assert fem.solve(dcb(), h=30.0).quantities["stiffness"] > 0
