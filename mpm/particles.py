@@ -112,11 +112,12 @@ def _member(key: np.ndarray, table: np.ndarray, extent: np.ndarray) -> np.ndarra
 def side_particles(case, particles: Particles, body_name: str, side: str) -> tuple[np.ndarray, float]:
     """Indices of the particles of ``body_name`` in the first row along ``side``.
 
-    A particle is on the side when its centre lies within half a particle spacing of
-    it (measured along the side's normal). A side along the grid axes that is off the
-    particle lattice (e.g. a 35 mm strip at 0.15 mm spacing: the last centres are
-    0.125 mm inside) has the row nearest to it, whose centres lie up to one spacing
-    inside. Returns (indices, side length or area).
+    The first row is the one nearest to the side: on a side along the grid axes, the
+    centres within half a spacing of the nearest centre, which lies up to one spacing
+    inside (half a spacing where the side is on the particle lattice; 0.125 mm for a
+    35 mm strip at 0.15 mm spacing); on a rotated side, the centres within half a
+    spacing of the side (measured along its normal). Returns (indices, side length or
+    area).
     """
     names = [b.name for b in case.bodies]
     if body_name not in names:
@@ -129,16 +130,13 @@ def side_particles(case, particles: Particles, body_name: str, side: str) -> tup
     normal = np.asarray(shape.edge_normal(side), float)
     spacing = float(np.abs(normal) @ particles.spacing)
     own = np.flatnonzero(particles.field == b)
-    mask = shape.edge_mask(particles.x0[own], side, 0.5 * spacing * (1.0 + 1e-6))
-    aligned = np.count_nonzero(np.abs(normal) > 1e-12) == 1
-    if not mask.any() and aligned and own.size:
-        # the side is off the particle lattice: the nearest row, within one spacing
+    tol = 0.5 * spacing * (1.0 + 1e-6)                  # a rotated side
+    if np.count_nonzero(np.abs(normal) > 1e-12) == 1 and own.size:
         axis, is_max = shape._side(side)
         q = shape.to_local(particles.x0[own])[:, axis]
-        inside = float(np.min(shape.size[axis] - q if is_max else q))
-        if inside <= spacing * (1.0 + 1e-6):
-            mask = shape.edge_mask(particles.x0[own], side, inside + 0.5 * spacing)
-    idx = own[mask]
+        nearest = float(np.min(shape.size[axis] - q if is_max else q))
+        tol = nearest + 0.5 * spacing if nearest <= spacing * (1.0 + 1e-6) else 0.0
+    idx = own[shape.edge_mask(particles.x0[own], side, tol)] if tol > 0.0 else own[:0]
     if idx.size == 0:
         raise CaseError(f"no particle of body {body_name!r} lies within one particle spacing "
                         f"({spacing:g} mm) of side {side!r}: refine the grid (mpm cell)")

@@ -165,18 +165,23 @@ def test_show_params_lists_set_parameters_with_units(capsys):
     capsys.readouterr()
 
 
-def test_a_method_failing_unexpectedly_is_reported_and_the_others_kept(tmp_path, monkeypatch, capsys):
-    """An exception that is not a CaseError / SolverError (a defect, or a library giving
-    up: scikit-fem's inverse mapping on a 25 m bond line) costs that method only: run
-    reports its type, message and line, keeps the other methods' results, exits 3."""
+def _fem_raises(monkeypatch, error: Exception) -> None:
+    """cases.compare runs fem as raising ``error``, every other method as usual."""
     import cases.compare as C
     real = C.run
 
     def run(case, method, **options):
         if method == "fem":
-            raise RuntimeError("inverse mapping did not converge")
+            raise error
         return real(case, method, **options)
     monkeypatch.setattr(C, "run", run)
+
+
+def test_a_method_failing_unexpectedly_is_reported_and_the_others_kept(tmp_path, monkeypatch, capsys):
+    """An exception that is not a CaseError / SolverError (a defect, or a library giving
+    up: scikit-fem's inverse mapping on a 25 m bond line) costs that method only: run
+    reports its type, message and line, keeps the other methods' results, exits 3."""
+    _fem_raises(monkeypatch, RuntimeError("inverse mapping did not converge"))
     comp = compare(cases.build("dls"), "fem,analytic", progress=False)
     assert set(comp.results) == {"analytic"}
     assert re.fullmatch(r"RuntimeError: inverse mapping did not converge \(at test_cases_cli\.py:\d+\)",
@@ -188,10 +193,7 @@ def test_a_method_failing_unexpectedly_is_reported_and_the_others_kept(tmp_path,
 
 
 def test_a_method_out_of_memory_says_to_coarsen_and_the_others_are_kept(monkeypatch):
-    import cases.compare as C
-    real = C.run
-    monkeypatch.setattr(C, "run", lambda case, m, **o: (_ for _ in ()).throw(MemoryError())
-                        if m == "fem" else real(case, m, **o))
+    _fem_raises(monkeypatch, MemoryError())
     comp = compare(cases.build("dls"), "fem,analytic", progress=False)
     assert set(comp.results) == {"analytic"}
     assert comp.failures["fem"] == "out of memory: use a coarser discretization (element_size, cell, h)"

@@ -142,7 +142,6 @@ def test_traction_total_force_and_edge_offset():
     np.testing.assert_allclose(pt.x[loaded, 1] + pt.foff[loaded, 1], 2.0)
 
 
-
 def test_traction_on_a_side_off_the_particle_lattice_loads_the_outermost_row():
     # height 2.1 at 0.25 mm spacing: the top centres are 0.225 mm below the side,
     # beyond half a spacing (0.125), where a side on the lattice has its first row
@@ -164,6 +163,7 @@ def test_traction_on_an_ellipse_curve_is_refused_by_mpm_naming_the_side():
                                                        (0.0, 1.0))])
     with pytest.raises(CaseError, match="side 'boundary' of body 'b'.*Rectangle/Box"):
         mpm.solve(case, cell=0.5, progress=False, max_time=1e-6)
+
 
 # -------------------------------------------------------------- P2G -----
 
