@@ -31,7 +31,7 @@ DEFAULTS: dict = {
     "ramp_time": None,       # s; default: the traction ramp_time, else one estimated period T1
     "max_time": None,        # s; default ramp + 40 T1
     "tol": 1e-6,             # stop when kinetic / (strain + interface) energy < tol over half a period after the ramp
-    "tol_energy": 1e-4,      # ... and the stored energy changes by less than tol_energy of itself there
+    "tol_energy": 1e-4,      # ... and the mean stored energy moves < tol_energy x itself between half periods
     "padding": 3,            # empty cells around the bodies
     "nodal_displacement": "linear",  # multimaterial nodes: linear (000 Eq 13 extrapolated from
                                      # the centroid to the node, mpm/extrapolation.py) | average (Eq 13)

@@ -276,7 +276,7 @@ def test_misspelled_option_is_refused_listing_the_valid_ones():
 
 
 def test_dcb_grid_reaches_the_opened_arms():
-    """The DCB's arms open by several millimetres at the case's load (002 Eq B.3): the MPM
+    """The DCB's arms open by several millimetres at P = 1 N (002 Eq B.3): the MPM
     grid reaches beyond each arm's load-point deflection, with the ramp's overshoot
     (particles left the grid of 3 empty cells during the ramp)."""
     import cases
@@ -284,7 +284,7 @@ def test_dcb_grid_reaches_the_opened_arms():
     from mpm.options import merge
     from mpm.solver import Model
     for kw in ({"mpm_cell": 0.3}, {"mpm_cell": 0.3, "Dn": 0.3}):
-        case = cases.build("dcb", **kw)
+        case = cases.build("dcb", P=1.0, **kw)
         grid = Model(case, merge(case, {})).grid
         tip = float(dcb_deflection(-25.0, 25.0, 0.6, 10.0, 10000.0, kw.get("Dn", math.inf),
                                    7808.0, 1.0))
