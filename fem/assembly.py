@@ -11,6 +11,8 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import BilinearForm, CellBasis, FacetBasis, LinearForm
 
+from interfaces.errors import CaseError
+
 from .interface_element import jump_stiffness_batch
 
 
@@ -69,6 +71,26 @@ def bulk_stiffness(basis: CellBasis, element_body: np.ndarray, moduli: list[np.n
     if copy_of is not None:
         data = data[copy_of]
     return _element_matrices_csr(data, basis.element_dofs.T, basis.N)
+
+
+def mass_matrix(disc, densities: list[float], lumped: bool) -> sp.csr_matrix:
+    """int rho N_i N_j dV (per-element rho, thickness or 2 pi r), lumped by row sums."""
+    rho = np.asarray(densities, float)[disc.element_body]
+    basis = disc.basis
+
+    @BilinearForm
+    def form(u, v, w):
+        scale = w.x[0] if disc.axisymmetric else disc.thickness
+        return w["rho"] * (u[0] * v[0] + u[1] * v[1]) * scale
+
+    M = form.assemble(basis, rho=rho[:, None] * np.ones((1, basis.X.shape[1]))).tocsr()
+    if not lumped:
+        return M
+    d = np.asarray(M.sum(axis=1)).ravel()
+    if np.any(d <= 0.0):
+        raise CaseError("fem option mass = 'lumped' needs positive row sums of the mass matrix "
+                        "(order = 1, or quadrilaterals with order = 2); use mass = 'consistent'")
+    return sp.diags(d).tocsr()
 
 
 def _congruent_elements(basis: CellBasis, element_body: np.ndarray, axisymmetric: bool):

@@ -55,6 +55,19 @@ def rigid_modes(doflocs: np.ndarray, axisymmetric: bool) -> np.ndarray:
     return np.stack([tx, ty, rot], axis=1)
 
 
+def free_rigid_motions(modes: np.ndarray, prescribed) -> np.ndarray:
+    """The rigid motions (columns, combinations of ``modes``) that the ``prescribed`` DOFs
+    leave free."""
+    fixed = np.asarray(prescribed, dtype=np.int64)
+    R = modes[fixed] if fixed.size else np.zeros((0, modes.shape[1]))
+    # the zero rows make vt square (every null vector) without the n_fixed^2 factor U of
+    # full_matrices (12.8 GB for the 40000 axis DOFs of a 10 m axisymmetric sleeve)
+    _, sv, vt = np.linalg.svd(np.vstack([R, np.zeros((modes.shape[1], modes.shape[1]))]),
+                              full_matrices=False)
+    rank = int(np.sum(sv > 1e-9 * max(1.0, sv.max(initial=0.0))))
+    return modes @ vt[rank:].T
+
+
 def pin_rigid_modes(modes: np.ndarray, prescribed: np.ndarray, f: np.ndarray, candidates: np.ndarray) -> list[int]:
     """Fewest DOFs to fix so that no rigid mode is left free by ``prescribed`` (chosen among
     ``candidates`` where possible, e.g. the support side). Pinning does not change the
@@ -62,17 +75,10 @@ def pin_rigid_modes(modes: np.ndarray, prescribed: np.ndarray, f: np.ndarray, ca
     pins: list[int] = []
     fixed = list(prescribed)
     for _ in range(modes.shape[1]):
-        R = modes[np.asarray(fixed, dtype=np.int64)] if fixed else np.zeros((0, modes.shape[1]))
-        # the zero rows make vt square (every null vector) without the n_fixed^2 factor U of
-        # full_matrices (12.8 GB for the 40000 axis DOFs of a 10 m axisymmetric sleeve)
-        _, sv, vt = np.linalg.svd(np.vstack([R, np.zeros((modes.shape[1], modes.shape[1]))]),
-                                  full_matrices=False)
-        rank = int(np.sum(sv > 1e-9 * max(1.0, sv.max(initial=0.0))))
-        null = vt[rank:]
-        if len(null) == 0:
+        free = free_rigid_motions(modes, fixed)
+        if free.shape[1] == 0:
             break
-        r = modes @ null[0]
-        r /= np.abs(r).max()
+        r = free[:, 0] / np.abs(free[:, 0]).max()
         work = abs(f @ r)
         if work > 1e-9 * max(np.abs(f).sum(), 1e-300):
             raise SolverError("the boundary conditions leave a rigid motion free and the loads are not "
@@ -84,4 +90,17 @@ def pin_rigid_modes(modes: np.ndarray, prescribed: np.ndarray, f: np.ndarray, ca
     return pins
 
 
-__all__ = ["apply_boundary_conditions", "rigid_modes", "pin_rigid_modes"]
+def at_rest_gauge(u: np.ndarray, free: np.ndarray, M) -> np.ndarray:
+    """``u`` less the rigid motion (of the ``free`` columns) that makes it mass-orthogonal
+    to them: free^T M u = 0, no mean translation or rotation. A free body loaded from rest
+    by balanced loads keeps that gauge (zero momentum and angular momentum): an explicit
+    run (MPM) ends in it, whereas the pinned DOFs of :func:`pin_rigid_modes` pick one
+    arbitrarily (the DCB's pinned support arm showed the whole opening at its load point
+    and a rigid rotation along the bond)."""
+    if free.shape[1] == 0:
+        return u
+    Mf = M @ free
+    return u - free @ np.linalg.solve(free.T @ Mf, Mf.T @ u)
+
+
+__all__ = ["apply_boundary_conditions", "rigid_modes", "free_rigid_motions", "pin_rigid_modes", "at_rest_gauge"]

@@ -37,7 +37,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from skfem import BilinearForm, CellBasis
+from skfem import CellBasis
 
 from interfaces.errors import CaseError, SolverError
 from interfaces.result import Result
@@ -45,7 +45,7 @@ from interfaces.sparse import DirectSolver
 from interfaces.wave_gauges import (GAUGE_KEYS, body_at, gauge_spec, longitudinal_impedance,
                                     pulse_measures, reflection_arrival)
 
-from .assembly import bulk_stiffness
+from .assembly import bulk_stiffness, mass_matrix
 from .boundary import apply_boundary_conditions
 from .constraints import build_elimination
 from .discretization import discretize
@@ -56,26 +56,6 @@ SCHEMES = ("newmark", "central")
 MASSES = ("consistent", "lumped")
 #: history samples kept in the Result
 HISTORY_POINTS = 2000
-
-
-def mass_matrix(disc, densities: list[float], lumped: bool) -> sp.csr_matrix:
-    """int rho N_i N_j dV (per-element rho, thickness or 2 pi r), lumped by row sums."""
-    rho = np.asarray(densities, float)[disc.element_body]
-    basis = disc.basis
-
-    @BilinearForm
-    def form(u, v, w):
-        scale = w.x[0] if disc.axisymmetric else disc.thickness
-        return w["rho"] * (u[0] * v[0] + u[1] * v[1]) * scale
-
-    M = form.assemble(basis, rho=rho[:, None] * np.ones((1, basis.X.shape[1]))).tocsr()
-    if not lumped:
-        return M
-    d = np.asarray(M.sum(axis=1)).ravel()
-    if np.any(d <= 0.0):
-        raise CaseError("fem option mass = 'lumped' needs positive row sums of the mass matrix "
-                        "(order = 1, or quadrilaterals with order = 2); use mass = 'consistent'")
-    return sp.diags(d).tocsr()
 
 
 def ramp_derivatives(bc, t: float) -> tuple[float, float, float]:

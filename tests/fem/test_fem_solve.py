@@ -255,6 +255,24 @@ def test_dcb_soft_interface_needs_a_long_bond():
     assert _dcb_run(0.01, 0.2)["stiffness"] < 0.92 * ref
 
 
+def test_a_free_dcb_is_reported_at_rest_not_on_its_pins():
+    """The DCB is free and self-equilibrated. FEM pins three DOFs of the lower arm's load
+    side; reported on those pins, the upper arm carried the whole opening (0.066 mm at its
+    load point, 0 at the lower one) and the bonded half turned rigidly (upper arm 0.007
+    mm at x = 40), while MPM, which comes to rest from rest, opened each arm by half.
+    Reported as a body at rest (no mean translation or rotation in the mass metric), the
+    symmetric specimen opens by half on each arm and the bonded half stays put; the
+    stiffness does not change."""
+    r = fem.solve(dcb(Dn=1.0), h=0.3)
+    q = r.quantities
+    assert r.diagnostics["pinned_dofs"]
+    assert q["displacement_load"] == pytest.approx(-q["displacement_support"], rel=5e-8)
+    arm = r.profiles["upper_arm"]
+    at_40 = np.interp(40.0, arm["x"], arm["uy"])
+    assert abs(at_40) < 1e-3 * q["displacement_load"]
+    assert q["stiffness"] == pytest.approx(q["stiffness_energy"], rel=1e-7)
+
+
 # ---------------------------------------------------------------- outputs and errors
 def test_result_outputs_profiles_fields_and_vtk(tmp_path):
     r = fem.solve(dls(Dt=20.0), h=0.3)
