@@ -290,3 +290,26 @@ def test_dcb_grid_reaches_the_opened_arms():
                                    7808.0, 1.0))
         top = grid.origin[1] + grid.cell[1] * (grid.nn[1] - 1)
         assert grid.origin[1] <= -1.4 * tip and top >= 1.2 + 1.4 * tip
+
+
+def test_interface_profile_leaves_out_the_slivers_of_a_neighbouring_node_row():
+    """The DCB's Dn = 0.1 bond (0.3 mm cells): where the arms press together the lower
+    arm's particle domains reach the node row above the bond line, whose nodes then see
+    both fields with 4e-8..4e-4 of a bond node's contact area and jumps read from a few
+    particle tails (+-9e-5 mm tangential, alternating node to node, on a bond whose
+    particles have no tangential jump). The profile keeps the bond line."""
+    from mpm.measure import interface_profile
+    from mpm.multimaterial_constants import (NODE_OUT_COLUMNS, OUT_AREA, OUT_JUMP_N, OUT_JUMP_T,
+                                             OUT_NY)
+    grid = Grid(np.array([0.0, 0.0]), np.array([0.3, 0.3]), np.array([11, 5]))
+    out = np.zeros((grid.N, NODE_OUT_COLUMNS))
+    bond = 2 * 11 + np.arange(11)                       # the node row y = 0.6
+    sliver = 3 * 11 + np.arange(6, 11)                  # part of the row above it
+    out[bond, OUT_AREA], out[bond, OUT_JUMP_N] = 3.0, np.linspace(1e-3, 0.0, 11)
+    out[sliver, OUT_AREA] = [1e-7, 4e-4, 1e-7, 1.3e-3, 4e-4]
+    out[sliver, OUT_JUMP_T] = 9e-5 * (-1.0) ** np.arange(5)
+    out[np.concatenate([bond, sliver]), OUT_NY] = 1.0
+    prof = interface_profile(grid, out)
+    np.testing.assert_array_equal(prof["y"], 0.6)
+    np.testing.assert_allclose(np.sort(prof["x"]), 0.3 * np.arange(11))
+    assert np.all(prof["jump_t"] == 0.0)
