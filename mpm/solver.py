@@ -604,8 +604,9 @@ class _Runner:
         Means, not the spread: a vibration of energy e about the static state changes the
         stored energy U by up to 2 sqrt(e U) (the cross term with the static
         deformation), 2e-3 U at the kinetic-energy bound e = 1e-6 U, and a free slender
-        specimen (the DCB) keeps a residual vibration of 1e-7 U that spread 1e-4 U per
-        interval for ever; a creep moves both tests alike."""
+        specimen (the DCB at 0.3 mm cells) keeps a residual vibration of 1e-7 U, which
+        spread it by 1e-4 U per output interval until max_time; a creep moves both tests
+        alike."""
         recent = self._last_steps(2 * window)
         if recent is None:
             return False
