@@ -158,7 +158,7 @@ def test_show_params_lists_set_parameters_with_units(capsys):
     assert re.search(r"^mpm_cell\s+0\.25\s+mm$", out, flags=re.M)
     assert "cheap settings: --set fem_h=1.0 --set mpm_cell=1.0" in out and "  but " not in out
     assert main(["show", "dcb", "--params"]) == 0
-    assert "cheap settings: --set fem_h=0.3 --set mpm_cell=0.3\n  but mpm takes most of an hour" \
+    assert "cheap settings: --set fem_h=0.3 --set mpm_cell=0.3\n  but mpm takes about 4 minutes" \
         in capsys.readouterr().out
     for name in cases.names():              # every case's parameters have a unit entry
         assert main(["show", name, "--params"]) == 0

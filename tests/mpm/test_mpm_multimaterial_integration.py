@@ -128,10 +128,13 @@ def test_imperfect_normal_interface_in_uniaxial_tension(normal):
     assert main.sum() == round(W / 0.25) + 1
     np.testing.assert_allclose(np.asarray(prof["jump_n"])[main], SIGMA / Dn, rtol=0.015)
     np.testing.assert_allclose(np.asarray(prof["traction_n"])[main], SIGMA, rtol=0.015)
+    # the profile leaves out the slivers (here 0.4-0.8 % of a node's area, 0.8 % of the
+    # total, with jumps 12x the law's sigma / Dn read from particle tails)
+    assert area.min() > 0.1 * area.max()
     # 000 Eq 20 gives exactly W t for the closed interface (unit test of Fig 2); opening
     # it by the jump (0.8 % of dx here) moves the fields' particles apart and lowers
-    # min(Omega_a, Omega_b), so the summed area comes out ~1 % low
-    assert area.sum() == pytest.approx(W * T, rel=2e-2)
+    # min(Omega_a, Omega_b), so the interface nodes' area comes out 2.0 % low
+    assert area.sum() == pytest.approx(W * T, rel=3e-2)
 
 
 @pytest.mark.slow
