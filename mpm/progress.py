@@ -1,7 +1,9 @@
 """Progress of long MPM runs on stderr: tqdm (a dependency) with a plain fallback.
 
 ``bar.update(fraction, note)`` moves the bar to ``fraction`` of the run (never back) and
-shows ``note``; ``close(note)`` ends the line. The first run of an installation also says
+shows ``note``; ``close(note)`` ends the line. An ``open_ended`` run (quasi-static: it
+stops when it comes to rest, often long before the time limit the bar measures) shows no
+remaining-time estimate, which would count to the limit (35 min for a 4 min DCB run). The first run of an installation also says
 that numba is compiling the kernels (:func:`compile_notice`), so minutes of silence are
 explained.
 """
@@ -16,7 +18,7 @@ _RESOLUTION = 1000      # bar units per run
 class ProgressBar:
     """A run's progress in [0, 1] with a short note (time, kinetic/stored energy)."""
 
-    def __init__(self, label: str, enabled: bool = True, stream=None):
+    def __init__(self, label: str, enabled: bool = True, stream=None, open_ended: bool = False):
         self.label = label
         self.enabled = enabled
         self.stream = stream or sys.stderr
@@ -26,8 +28,9 @@ class ProgressBar:
         if enabled:
             try:
                 from tqdm import tqdm
+                timing = "{elapsed}" if open_ended else "{elapsed}<{remaining}"
                 self._bar = tqdm(total=_RESOLUTION, desc=label, file=self.stream, dynamic_ncols=True,
-                                 bar_format="{desc} {percentage:5.1f}%|{bar}| {elapsed}<{remaining}{postfix}",
+                                 bar_format="{desc} {percentage:5.1f}%|{bar}| " + timing + "{postfix}",
                                  mininterval=0.25)
             except ImportError:          # plain fallback
                 self._bar = None

@@ -446,7 +446,8 @@ class _Runner:
         total_steps = int(math.ceil(m.max_time / m.dt))
         est_time = 1e-7 * m.particles.P * total_steps
         show = m.opts["progress"] if m.opts["progress"] is not None else est_time > 5.0
-        bar = ProgressBar(f"mpm {m.case.name}", enabled=bool(show))
+        # a damped run stops at rest, mostly long before max_time, which the bar measures
+        bar = ProgressBar(f"mpm {m.case.name}", enabled=bool(show), open_ended=m.opts["damping"] != "none")
         vtk_every = max(1, total_steps // m.opts["vtk_frames"]) if m.opts["vtk_dir"] else 0
         resumed = self._resume()
         if resumed:
@@ -471,7 +472,8 @@ class _Runner:
                     next_frame += vtk_every
                 # the step limit grows when a slower mode is found: never move the bar back
                 shown = max(shown, self.steps / total_steps)
-                bar.update(shown, f"t={self.t:.3g}s {_energy_ratio_text(h[-1, 7], h[-1, 2] + h[-1, 6])}")
+                bar.update(shown, f"t={self.t:.3g}s {_energy_ratio_text(h[-1, 7], h[-1, 2] + h[-1, 6])}"
+                                  + (f" (rest: < {m.opts['tol']:g})" if m.opts["damping"] != "none" else ""))
                 total_steps = self._adapt(total_steps)
                 if m.state_dt:
                     total_steps = self._state_time_step()
