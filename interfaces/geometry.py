@@ -116,13 +116,18 @@ class _Sided(Shape):
             raise CaseError(f"side must be one of {', '.join(valid)}, got {side!r}")
         return valid.index(side) // 2, side.endswith("max")
 
+    def edge_distance(self, points, side: str) -> np.ndarray:
+        """Signed distance of the points from the named side along its inward normal
+        (positive inside the shape)."""
+        axis, is_max = self._side(side)
+        q = self.to_local(points)[:, axis]
+        return self.size[axis] - q if is_max else q
+
     def edge_mask(self, points, side: str, tol: float) -> np.ndarray:
         """Points within ``tol`` of the named side (and within the side's extent)."""
-        axis, is_max = self._side(side)
         q = self.to_local(points)
-        target = self.size[axis] if is_max else 0.0
         inside = np.all((q >= -tol) & (q <= self.size + tol), axis=1)
-        return inside & (np.abs(q[:, axis] - target) <= tol)
+        return inside & (np.abs(self.edge_distance(points, side)) <= tol)
 
     def edge_length(self, side: str) -> float:
         """Length (2D) or area (3D) of the named side."""

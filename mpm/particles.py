@@ -132,9 +132,7 @@ def side_particles(case, particles: Particles, body_name: str, side: str) -> tup
     own = np.flatnonzero(particles.field == b)
     tol = 0.5 * spacing * (1.0 + 1e-6)                  # a rotated side
     if np.count_nonzero(np.abs(normal) > 1e-12) == 1 and own.size:
-        axis, is_max = shape._side(side)
-        q = shape.to_local(particles.x0[own])[:, axis]
-        nearest = float(np.min(shape.size[axis] - q if is_max else q))
+        nearest = float(np.min(shape.edge_distance(particles.x0[own], side)))
         tol = nearest + 0.5 * spacing if nearest <= spacing * (1.0 + 1e-6) else 0.0
     idx = own[shape.edge_mask(particles.x0[own], side, tol)] if tol > 0.0 else own[:0]
     if idx.size == 0:

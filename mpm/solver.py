@@ -447,7 +447,9 @@ class _Runner:
         est_time = 1e-7 * m.particles.P * total_steps
         show = m.opts["progress"] if m.opts["progress"] is not None else est_time > 5.0
         # a damped run stops at rest, mostly long before max_time, which the bar measures
-        bar = ProgressBar(f"mpm {m.case.name}", enabled=bool(show), open_ended=m.opts["damping"] != "none")
+        damped = m.opts["damping"] != "none"
+        rest = f" (rest: < {m.opts['tol']:g})" if damped else ""
+        bar = ProgressBar(f"mpm {m.case.name}", enabled=bool(show), open_ended=damped)
         vtk_every = max(1, total_steps // m.opts["vtk_frames"]) if m.opts["vtk_dir"] else 0
         resumed = self._resume()
         if resumed:
@@ -472,8 +474,7 @@ class _Runner:
                     next_frame += vtk_every
                 # the step limit grows when a slower mode is found: never move the bar back
                 shown = max(shown, self.steps / total_steps)
-                bar.update(shown, f"t={self.t:.3g}s {_energy_ratio_text(h[-1, 7], h[-1, 2] + h[-1, 6])}"
-                                  + (f" (rest: < {m.opts['tol']:g})" if m.opts["damping"] != "none" else ""))
+                bar.update(shown, f"t={self.t:.3g}s {_energy_ratio_text(h[-1, 7], h[-1, 2] + h[-1, 6])}{rest}")
                 total_steps = self._adapt(total_steps)
                 if m.state_dt:
                     total_steps = self._state_time_step()
@@ -483,7 +484,7 @@ class _Runner:
                     break
                 self._checkpoint(interrupt)
         bar.close(f"{self.steps} steps, stopped by {self.stopped_by}")
-        if self.stopped_by == "max_time" and m.opts["damping"] != "none":
+        if self.stopped_by == "max_time" and damped:
             # an undamped run is dynamic: it ends at max_time by design
             self.warnings.append(
                 f"mpm: reached max_time = {m.max_time:.4g} s before kinetic energy fell below "
