@@ -37,7 +37,7 @@ def stiffness(disc, meas: dict, f_int: np.ndarray, u: np.ndarray, U_total: float
     u_load = side_average(disc, load, u, unit)
     u_sup = side_average(disc, meas["support"], u, unit) if meas.get("support") else 0.0
     delta = u_load - u_sup
-    return {"load": P, "displacement_load": u_load, "displacement_support": u_sup,
+    return {"load": P, "load_displacement": u_load, "support_displacement": u_sup,
             "stiffness": P / delta if delta != 0 else math.nan,
             "stiffness_energy": P * P / (2.0 * U_total) if U_total > 0 else math.nan}
 

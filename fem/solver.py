@@ -41,7 +41,7 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from interfaces.case import InterfacePair
-from interfaces.errors import CaseError, SolverError, check_number
+from interfaces.errors import CaseError, SolverError, check_flag, check_integer, check_number
 from interfaces.laws import LinearInterface
 from interfaces.materials import small_strain_refusal
 from interfaces.result import Result
@@ -58,6 +58,9 @@ from .measure import bulk_modulus as measure_bulk_modulus
 from .measure import stiffness as measure_stiffness
 from .mesh import default_element_size
 from .post import interface_profile, line_profile, recover_tractions, vertex_stress
+
+#: the highest bulk quadrature order scikit-fem has for every element (triangles: 19)
+MAX_INTORDER = 19
 
 OPTIONS = {
     "order": "bulk element order: 2 (ElementQuad2 + 6-node interface, default) or 1",
@@ -97,18 +100,19 @@ def _options(case, options: dict) -> dict:
         raise CaseError(f"fem option order must be 1 or 2, got {order!r}")
     out = {"order": int(order),
            "element_size": opts.get("element_size", default_element_size(case)),
-           "intorder": int(opts.get("intorder", 2 * order)),
-           "max_dofs": float(opts.get("max_dofs", 5e6)),
-           "line_points": int(opts.get("line_points", 201)),
-           "jump_points": int(opts.get("jump_points", 3)),
-           "pin_rigid_modes": bool(opts.get("pin_rigid_modes", True)),
-           "fields": bool(opts.get("fields", True)),
-           "max_contact_iterations": int(opts.get("max_contact_iterations", 50))}
+           "intorder": check_integer("fem option intorder", opts.get("intorder", 2 * order),
+                                     low=1, high=MAX_INTORDER),
+           "max_dofs": check_number("fem option max_dofs", opts.get("max_dofs", 5e6), low=1.0),
+           "line_points": check_integer("fem option line_points", opts.get("line_points", 201),
+                                        low=2),
+           "jump_points": check_integer("fem option jump_points", opts.get("jump_points", 3),
+                                        low=1),
+           "max_contact_iterations": check_integer("fem option max_contact_iterations",
+                                                   opts.get("max_contact_iterations", 50), low=1)}
+    for flag in ("pin_rigid_modes", "fields", "curved"):
+        out[flag] = check_flag(f"fem option {flag}", opts.get(flag, True))
     out["solver"] = opts.get("solver", "auto")
     out["mesher"] = opts.get("mesher", "auto")
-    out["curved"] = opts.get("curved", True)
-    if not isinstance(out["curved"], (bool, np.bool_)):
-        raise CaseError(f"fem option curved must be true or false, got {out['curved']!r}")
     if out["solver"] not in SOLVER_KINDS:
         raise CaseError(f"fem option solver must be one of {', '.join(SOLVER_KINDS)}, got {out['solver']!r}")
     dynamic = "transmitted_energy" in case.measurements
@@ -124,8 +128,6 @@ def _options(case, options: dict) -> dict:
                               low=0, high=1, low_open=True)
     out["duration"] = None if opts.get("duration") is None else \
         check_number("fem option duration", opts["duration"], low=0, low_open=True)
-    if out["line_points"] < 2 or out["jump_points"] < 1:
-        raise CaseError("fem options line_points must be >= 2 and jump_points >= 1")
     return out
 
 

@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from numbers import Real
 
+import numpy as np
+
 
 class CaseError(ValueError):
     """Invalid case description or solver option; the message names the field."""
@@ -45,6 +47,30 @@ def check_number(field: str, value, *, low: float | None = None, high: float | N
     if high is not None and (v > high or (high_open and v == high)):
         raise CaseError(f"{field} must be {rng}, got {v:g}")
     return v
+
+
+def check_integer(field: str, value, *, low: int | None = None, high: int | None = None) -> int:
+    """Return ``value`` as an int, or raise :class:`CaseError` naming ``field`` and the
+    allowed range; a float with a fractional part (``2.5``) or a bool is refused, never
+    truncated."""
+    what = "an integer" if low is None and high is None else \
+        f"an integer {_range_text(low, high, False, False)}"
+    if isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(value) \
+            or float(value) != int(value):
+        raise CaseError(f"{field} must be {what}, got {value!r}")
+    v = int(value)
+    if (low is not None and v < low) or (high is not None and v > high):
+        raise CaseError(f"{field} must be {what}, got {v}")
+    return v
+
+
+def check_flag(field: str, value) -> bool:
+    """Return ``value`` as a bool, or raise :class:`CaseError` naming ``field``: only
+    true and false are accepted (a string such as ``"false"`` is refused, not taken as
+    truthy)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise CaseError(f"{field} must be true or false, got {value!r}")
+    return bool(value)
 
 
 def _range_text(low, high, low_open, high_open) -> str:

@@ -6,7 +6,7 @@ import os
 
 import numpy as np
 
-from interfaces.errors import CaseError, check_number
+from interfaces.errors import CaseError, check_flag, check_number
 
 from .extrapolation import NODAL_DISPLACEMENT_CODES
 from .multimaterial import DEFAULT_OPTIONS as MULTIMATERIAL
@@ -147,10 +147,7 @@ def _xpic_options(opts: dict) -> None:
         raise CaseError(f"mpm option xpic must be an integer order m in 1..{MAX_XPIC} "
                         f"(0 or None: off), got {opts['xpic']!r}")
     opts["xpic"] = int(m)
-    if not isinstance(opts["xpic_correction"], (bool, np.bool_)):
-        raise CaseError(f"mpm option xpic_correction must be true or false, got "
-                        f"{opts['xpic_correction']!r}")
-    opts["xpic_correction"] = bool(opts["xpic_correction"])
+    opts["xpic_correction"] = check_flag("mpm option xpic_correction", opts["xpic_correction"])
     if opts["pic"] is None:
         opts["pic"] = 1.0 if opts["xpic"] else 0.0
     opts["pic"] = check_number("mpm option pic", opts["pic"], low=0, high=1)

@@ -18,7 +18,7 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
 from interfaces import Result
-from interfaces.errors import CaseError, check_number
+from interfaces.errors import CaseError, check_flag, check_number
 from interfaces.materials import small_strain_refusal
 
 from interfaces.sparse import KINDS
@@ -102,7 +102,7 @@ def _options(case, options: dict) -> dict:
         raise CaseError(f"cpd.preconditioner must be one of {', '.join(PRECONDITIONERS)}, got {pre!r}")
     return {"path": path, "preconditioner": pre, "h": h, "delta_factor": df, "overlap": ov, "load_steps": steps, "tol": tol,
             "max_iter": int(max_iter), "calibration": cal, "constants": o.get("constants"),
-            "line_search": bool(o.get("line_search", True)), "grid": o.get("grid", "vertex"),
+            "line_search": check_flag("cpd.line_search", o.get("line_search", True)), "grid": o.get("grid", "vertex"),
             "solver": kind, "progress": _progress_option(o.get("progress"))}
 
 

@@ -18,7 +18,6 @@ particle count says) and the run time (wall and CPU).
 from __future__ import annotations
 
 import argparse
-import ast
 import time
 from pathlib import Path
 
@@ -30,19 +29,13 @@ from matplotlib.collections import PolyCollection  # noqa: E402
 import numpy as np  # noqa: E402
 
 import cases  # noqa: E402
+from cases.cli import parse_value  # noqa: E402
 from cases.contact import compression_strain  # noqa: E402
 from cases.methods import run  # noqa: E402
 from interfaces.errors import SolverError  # noqa: E402
 from mpm.interpenetration import inside_other_material  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-
-
-def _value(text: str):
-    try:
-        return ast.literal_eval(text)
-    except (ValueError, SyntaxError):
-        return text
 
 
 def split_run(label: str, default_three_material: str) -> tuple[str, str]:
@@ -65,7 +58,7 @@ def solve(label: str, args, store: Path) -> dict:
                        three_material=three_material, **packing)
     options = dict(o.split("=", 1) for o in args.option)
     wall, cpu = time.perf_counter(), time.process_time()
-    res = run(case, "mpm", progress=True, **{k: _value(v) for k, v in options.items()})
+    res = run(case, "mpm", progress=True, **{k: parse_value(v) for k, v in options.items()})
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     g = res.diagnostics["gauges"]
     out = {"strain": compression_strain(case, g["time"]), "stress": -np.asarray(g["axial_stress"]),

@@ -86,6 +86,39 @@ def test_fem_boolean_options_refused(option, value, message):
         fem.solve(cases.build("two_layer", fem_h=1.0), **{option: value})
 
 
+@pytest.mark.parametrize("option,value,message", [
+    ("intorder", "x", r"fem option intorder must be an integer in \[1, 19\], got 'x'"),
+    ("intorder", 0, r"intorder must be an integer in \[1, 19\], got 0"),
+    ("line_points", 2.5, r"line_points must be an integer >= 2, got 2\.5"),
+    ("max_contact_iterations", "z", "max_contact_iterations must be an integer >= 1"),
+    ("max_dofs", "a", "max_dofs must be a number"),
+    ("pin_rigid_modes", "false", "pin_rigid_modes must be true or false, got 'false'"),
+    ("fields", 0, "fields must be true or false, got 0")])
+def test_fem_numeric_and_flag_options_are_checked_not_coerced(option, value, message):
+    """A string or a fraction is refused with the option's name and range: int("x")
+    leaked a bare ValueError, int(2.5) truncated silently and bool("false") was True."""
+    import fem
+    with pytest.raises(CaseError, match=message):
+        fem.solve(cases.build("two_layer", fem_h=1.0), **{option: value})
+
+
+@pytest.mark.parametrize("option", ["area_correction", "force_limiting", "lump_conserve",
+                                    "xpic_correction"])
+def test_mpm_flag_options_refuse_a_string(option):
+    """bool("false") is True: a flag given as text switched the method on silently."""
+    from mpm.multimaterial import build_pair_tables
+    from mpm.options import merge
+    case = cases.build("two_layer", mpm_cell=1.0)
+    with pytest.raises(CaseError, match=f"mpm option {option} must be true or false, got 'false'"):
+        build_pair_tables(case, merge(case, {option: "false"}))
+
+
+def test_cpd_line_search_refuses_a_string():
+    from peridynamics.solver import _options
+    with pytest.raises(CaseError, match="cpd.line_search must be true or false, got 'no'"):
+        _options(cases.build("bimaterial_square"), {"line_search": "no"})
+
+
 def test_a_tiny_ellipse_answers_without_overflow_warnings():
     """A semi-axis of 1e-200 mm passes the range check (positive, at most 1e30); points
     far from it are outside and off its curve, without numpy overflow warnings (the
