@@ -64,6 +64,28 @@ def check_integer(field: str, value, *, low: int | None = None, high: int | None
     return v
 
 
+def check_vector(field: str, value, size: int, *, broadcast: bool = False) -> np.ndarray:
+    """Return ``value`` as ``size`` finite floats, or raise :class:`CaseError` naming
+    ``field``; with ``broadcast`` one number stands for all of them. Text and booleans
+    are refused (``np.asarray(True, float)`` would be 1.0)."""
+    def refuse():
+        return CaseError(f"{field} must be {'one number or ' if broadcast else ''}{size} finite "
+                         f"numbers, got {value!r}")
+
+    items = value if isinstance(value, (list, tuple, np.ndarray)) else [value]
+    if any(isinstance(v, (str, bytes, bool, np.bool_)) for v in np.ravel(np.asarray(items, object))):
+        raise refuse()
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise refuse() from None
+    if arr.ndim == 0 and broadcast:
+        arr = np.full(size, float(arr))
+    if arr.shape != (size,) or not np.all(np.isfinite(arr)):
+        raise refuse()
+    return arr.copy()
+
+
 def check_flag(field: str, value) -> bool:
     """Return ``value`` as a bool, or raise :class:`CaseError` naming ``field``: only
     true and false are accepted (a string such as ``"false"`` is refused, not taken as

@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from interfaces.errors import check_flag
+from interfaces.errors import check_flag, check_number, check_vector
 from mpm import multimaterial_kernels as _k
 from mpm.multimaterial_constants import (
     HPERP_CODES, LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, N_PARAMS,
@@ -224,10 +224,7 @@ def _radial_normals(opts: dict, node_coordinates, dim: int, m: int) -> np.ndarra
     """Unit normals (x_i - c) / |x_i - c| of the nodes about ``normal_center`` c (SN of a
     spherical or cylindrical inclusion, 000 Sec 3: from body 0, the inclusion, to the
     others); zero at the centre itself."""
-    c = np.asarray(opts["normal_center"], dtype=float).ravel()
-    if c.size != dim or not np.all(np.isfinite(c)):
-        raise _err(f"mpm option normal_center must be a point of {dim} finite numbers, got "
-                   f"{opts['normal_center']!r}")
+    c = check_vector("mpm option normal_center", opts["normal_center"], dim)
     if opts["normal_vector"] is not None:
         raise _err("mpm options normal_vector and normal_center exclude each other; give one")
     if m != 2:
@@ -312,13 +309,17 @@ def build_pair_tables(case, options: dict | None = None,
         if vec is None:
             raise _err("mpm option normal='SN' needs normal_vector (from the lower to the higher "
                        "body index) or normal_center (radial normals)")
-        v = np.asarray(vec, dtype=float).ravel()
-        if v.size != dim or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0.0:
+        v = check_vector("mpm option normal_vector", vec, dim)
+        if np.linalg.norm(v) == 0.0:
             raise _err(f"mpm option normal_vector must be a nonzero finite vector of {dim} numbers, got {vec!r}")
         settings[S_SN_X:S_SN_X + dim] = v / np.linalg.norm(v)
 
     rigid = np.zeros(m, dtype=np.int64)
-    for rname in opts["rigid_bodies"] or ():
+    rigid_names = opts["rigid_bodies"] or ()
+    if not isinstance(rigid_names, (list, tuple)):
+        raise _err(f"mpm option rigid_bodies must be a list of body names of {names}, got "
+                   f"{rigid_names!r}")
+    for rname in rigid_names:
         if rname not in names:
             raise _err(f"mpm option rigid_bodies: unknown body {rname!r}; bodies are {names}")
         rigid[names.index(rname)] = 1
@@ -376,13 +377,7 @@ def build_pair_tables(case, options: dict | None = None,
 
 
 def _number(name: str, value, low: float, high: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise _err(f"mpm option {name} must be a number in [{low:g}, {high:g}], got {value!r}") from None
-    if not (low <= v <= high):
-        raise _err(f"mpm option {name} must be in [{low:g}, {high:g}], got {v:g}")
-    return v
+    return check_number(f"mpm option {name}", value, low=low, high=high)
 
 
 def empty_lr_arrays(n_nodes: int, n_materials: int, dim: int) -> tuple[np.ndarray, np.ndarray]:

@@ -6,7 +6,7 @@ import os
 
 import numpy as np
 
-from interfaces.errors import CaseError, check_flag, check_number
+from interfaces.errors import CaseError, check_flag, check_integer, check_number, check_vector
 
 from .extrapolation import NODAL_DISPLACEMENT_CODES
 from .multimaterial import DEFAULT_OPTIONS as MULTIMATERIAL
@@ -60,9 +60,8 @@ def merge(case, overrides: dict) -> dict:
     if opts["cell"] is None:
         raise CaseError("discretization.mpm.cell (mm) is required: pass cell=... to mpm.solve "
                         "or set it in the case")
-    cell = np.broadcast_to(np.asarray(opts["cell"], float), (D,)).copy() \
-        if np.ndim(opts["cell"]) == 0 else np.asarray(opts["cell"], float)
-    if cell.shape != (D,) or not np.all(np.isfinite(cell)) or np.any(cell <= 0):
+    cell = check_vector("mpm option cell", opts["cell"], D, broadcast=True)
+    if np.any(cell <= 0):
         raise CaseError(f"mpm option cell must be > 0 (one value or {D}), got {opts['cell']!r}")
     opts["cell"] = cell
     shape = str(opts["shape"]).lower()
@@ -89,11 +88,11 @@ def merge(case, overrides: dict) -> dict:
     opts["tol"] = check_number("mpm option tol", opts["tol"], low=0, high=1, low_open=True)
     opts["tol_energy"] = check_number("mpm option tol_energy", opts["tol_energy"], low=0, high=1,
                                       low_open=True)
-    opts["padding"] = int(check_number("mpm option padding", opts["padding"], low=2, high=100))
-    opts["vtk_frames"] = int(check_number("mpm option vtk_frames", opts["vtk_frames"], low=1, high=1e5))
+    opts["padding"] = check_integer("mpm option padding", opts["padding"], low=2, high=100)
+    opts["vtk_frames"] = check_integer("mpm option vtk_frames", opts["vtk_frames"], low=1, high=100000)
     opts["blowup"] = check_number("mpm option blowup", opts["blowup"], low=1, low_open=True)
-    opts["history_points"] = int(check_number("mpm option history_points", opts["history_points"],
-                                              low=10, high=1e7))
+    opts["history_points"] = check_integer("mpm option history_points", opts["history_points"],
+                                           low=10, high=10**7)
     nd = str(opts["nodal_displacement"]).lower()
     if nd not in NODAL_DISPLACEMENT_CODES:
         raise CaseError(f"mpm option nodal_displacement must be one of "
@@ -142,7 +141,7 @@ def _xpic_options(opts: dict) -> None:
     m = opts["xpic"]
     if m is None or m is False:
         m = 0
-    if isinstance(m, bool) or not isinstance(m, (int, np.integer, float)) \
+    if isinstance(m, bool) or not isinstance(m, (int, np.integer, float)) or not math.isfinite(m) \
             or float(m) != int(m) or not 0 <= int(m) <= MAX_XPIC:
         raise CaseError(f"mpm option xpic must be an integer order m in 1..{MAX_XPIC} "
                         f"(0 or None: off), got {opts['xpic']!r}")
@@ -154,13 +153,17 @@ def _xpic_options(opts: dict) -> None:
 
 
 def _checkpoint_options(opts: dict) -> None:
-    """checkpoint: a file path or None; checkpoint_every: s >= 0; resume: a boolean."""
+    """checkpoint: a file path or None; checkpoint_every: s >= 0; resume: a boolean;
+    progress: a boolean or None; vtk_dir: a folder path or None."""
     if opts["checkpoint"] is not None and not isinstance(opts["checkpoint"], (str, os.PathLike)):
         raise CaseError(f"mpm option checkpoint must be a file path, got {opts['checkpoint']!r}")
     opts["checkpoint_every"] = check_number("mpm option checkpoint_every", opts["checkpoint_every"],
                                             low=0, high=1e9)
-    if not isinstance(opts["resume"], bool):
-        raise CaseError(f"mpm option resume must be true or false, got {opts['resume']!r}")
+    opts["resume"] = check_flag("mpm option resume", opts["resume"])
+    if opts["progress"] is not None:
+        opts["progress"] = check_flag("mpm option progress (or None: automatic)", opts["progress"])
+    if opts["vtk_dir"] is not None and not isinstance(opts["vtk_dir"], (str, os.PathLike)):
+        raise CaseError(f"mpm option vtk_dir must be a folder path, got {opts['vtk_dir']!r}")
     if opts["resume"] and not opts["checkpoint"]:
         raise CaseError("mpm option resume needs the checkpoint option (the file to continue from)")
 
@@ -173,11 +176,12 @@ def _anchor(value, D: int):
             return None
         if key == "origin":
             return np.zeros(D)
-    elif value is not None:
-        arr = np.asarray(value, float) if np.ndim(value) else np.full(D, float(value))
-        if arr.shape == (D,) and np.all(np.isfinite(arr)):
-            return arr
     elif value is None:
         return None
+    else:
+        try:
+            return check_vector("mpm option grid_anchor", value, D, broadcast=True)
+        except CaseError:
+            pass
     raise CaseError(f"mpm option grid_anchor must be 'bounds', 'origin' or a point of {D} "
                     f"finite coordinates (mm) that node lines pass through, got {value!r}")

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from interfaces.errors import CaseError
+from interfaces.errors import CaseError, check_vector
 
 from .finite_strain import identity_gradients
 from .grid import Grid
@@ -49,10 +49,13 @@ class Particles:
 
 def parse_ppc(ppc, D: int) -> np.ndarray:
     """Particles per cell per axis from an int or a sequence; validated."""
-    arr = np.broadcast_to(np.asarray(ppc), (D,)) if np.ndim(ppc) == 0 else np.asarray(ppc)
-    if arr.shape != (D,) or not np.all(np.equal(np.mod(arr, 1), 0)) or np.any(arr < 1) \
-            or np.any(arr > 8):
-        raise CaseError(f"mpm option ppc must be an integer in [1, 8] (or {D} of them), got {ppc!r}")
+    message = f"mpm option ppc must be an integer in [1, 8] (or {D} of them), got {ppc!r}"
+    try:
+        arr = check_vector("mpm option ppc", ppc, D, broadcast=True)
+    except CaseError:
+        raise CaseError(message) from None
+    if not np.all(np.equal(np.mod(arr, 1), 0)) or np.any(arr < 1) or np.any(arr > 8):
+        raise CaseError(message)
     return arr.astype(np.int64)
 
 

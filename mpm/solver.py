@@ -689,10 +689,18 @@ class _Runner:
         return ""
 
     def _diverged(self, what: str) -> str:
-        return (f"mpm diverged at t = {self.t:.4g} s (step {self.steps}): {what}. Reduce the "
-                f"time step (cfl, now dt = {self.m.dt:.3g} s), increase damping (alpha = "
-                f"{self.m.alpha:.3g} 1/s) or lower the interface stiffness Dn/Dt"
-                + self._advice())
+        """The divergence message: the remedies that apply to this run (damping only where
+        the run is damped, Dn/Dt only where it has imperfect interfaces)."""
+        m = self.m
+        remedies = [f"reduce the time step (cfl, now dt = {m.dt:.3g} s)"]
+        if m.opts["damping"] != "none":
+            remedies.append(f"increase damping (alpha = {m.alpha:.3g} 1/s)")
+        if m.tables is not None and m.tables.has_interfaces:
+            remedies.append("lower the interface stiffness Dn/Dt")
+        advice = remedies[0] if len(remedies) == 1 else \
+            ", ".join(remedies[:-1]) + " or " + remedies[-1]
+        return (f"mpm diverged at t = {self.t:.4g} s (step {self.steps}): {what}. "
+                f"{advice[0].upper()}{advice[1:]}" + self._advice())
 
     def _frame(self) -> None:
         pt = self.m.particles

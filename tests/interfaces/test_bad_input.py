@@ -113,6 +113,33 @@ def test_mpm_flag_options_refuse_a_string(option):
         build_pair_tables(case, merge(case, {option: "false"}))
 
 
+@pytest.mark.parametrize("option,value,message", [
+    ("cell", "abc", r"mpm option cell must be one number or 2 finite numbers, got 'abc'"),
+    ("cell", True, "mpm option cell must be one number or 2"),
+    ("grid_anchor", True, "mpm option grid_anchor must be 'bounds', 'origin' or a point"),
+    ("padding", 2.5, r"mpm option padding must be an integer in \[2, 100\], got 2\.5"),
+    ("vtk_frames", 2.5, "mpm option vtk_frames must be an integer"),
+    ("xpic", math.nan, "mpm option xpic must be an integer order"),
+    ("progress", "abc", "mpm option progress .* must be true or false"),
+    ("vtk_dir", 3, "mpm option vtk_dir must be a folder path"),
+    ("ppc", "abc", r"mpm option ppc must be an integer in \[1, 8\]"),
+    ("ppc", True, r"mpm option ppc must be an integer in \[1, 8\]"),
+    ("rigid_bodies", "floor", "mpm option rigid_bodies must be a list of body names"),
+    ("edge_cutoff", True, "mpm option edge_cutoff must be a number, got True"),
+    ("normal_vector", "abc", "mpm option normal_vector must be 2 finite numbers")])
+def test_mpm_options_name_the_field_instead_of_leaking_numpy_errors(option, value, message):
+    """Each of these passed through float(), np.asarray or iteration: a bare ValueError
+    or TypeError from numpy, or a silent 1.0 for True, or 2 for 2.5."""
+    from mpm.multimaterial import build_pair_tables
+    from mpm.options import merge
+    from mpm.particles import parse_ppc
+    case = cases.build("two_layer", mpm_cell=1.0)
+    with pytest.raises(CaseError, match=message):
+        opts = merge(case, {option: value})
+        build_pair_tables(case, opts)
+        parse_ppc(opts["ppc"], 2)
+
+
 def test_cpd_line_search_refuses_a_string():
     from peridynamics.solver import _options
     with pytest.raises(CaseError, match="cpd.line_search must be true or false, got 'no'"):

@@ -79,3 +79,23 @@ def test_perfect_normal_direction_held_by_limiting_is_not_reported():
     r = mpm.solve(cases.build("dls", Dt=5.0, l=5.0, L=2.0, mpm_cell=0.2), ramp_time=5e-5,
                   progress=False)
     assert not any("force limiting" in w for w in r.diagnostics["warnings"])
+
+
+@pytest.mark.parametrize("damping,interfaces,named", [
+    ("none", False, ["cfl"]), ("grid", False, ["cfl", "damping"]),
+    ("none", True, ["cfl", "Dn/Dt"]), ("grid", True, ["cfl", "damping", "Dn/Dt"])])
+def test_divergence_advice_names_only_the_remedies_the_run_has(damping, interfaces, named):
+    """An undamped contact run (004 Fig 6) was told to increase its damping (alpha = 0)
+    or lower an interface stiffness it does not have."""
+    from types import SimpleNamespace
+
+    from mpm.solver import _Runner
+    tables = SimpleNamespace(has_interfaces=interfaces)
+    model = SimpleNamespace(dt=1e-9, alpha=0.0, opts={"damping": damping}, tables=tables,
+                            force_limiting=True)
+    run = SimpleNamespace(m=model, t=1e-5, steps=7000, _advice=lambda: "")
+    text = _Runner._diverged(run, "energies became NaN/inf")
+    assert text.startswith("mpm diverged at t = 1e-05 s (step 7000): energies became NaN/inf. "
+                           "Reduce the time step (cfl, now dt = 1e-09 s)")
+    for remedy, word in (("cfl", "cfl"), ("damping", "increase damping"), ("Dn/Dt", "Dn/Dt")):
+        assert (word in text) == (remedy in named)
