@@ -285,12 +285,12 @@ def build_pair_tables(case, options: dict | None = None,
     if hp not in HPERP_CODES:
         raise _err(f"mpm option h_perp must be one of {sorted(HPERP_CODES)}, got {opts['h_perp']!r}")
     settings[S_HPERP] = HPERP_CODES[hp]
-    settings[S_AREA_CORRECTION] = 1.0 if check_flag("mpm option area_correction", opts["area_correction"]) else 0.0
+    settings[S_AREA_CORRECTION] = float(check_flag("mpm option area_correction", opts["area_correction"]))
     area = str(opts["interface_area"]).lower()
     if area not in AREA_VOLUMES:
         raise _err(f"mpm option interface_area must be one of {list(AREA_VOLUMES)}, got {opts['interface_area']!r}")
-    settings[S_FORCE_LIMIT] = 1.0 if check_flag("mpm option force_limiting", opts["force_limiting"]) else 0.0
-    settings[S_LUMP_CONSERVE] = 1.0 if check_flag("mpm option lump_conserve", opts["lump_conserve"]) else 0.0
+    settings[S_FORCE_LIMIT] = float(check_flag("mpm option force_limiting", opts["force_limiting"]))
+    settings[S_LUMP_CONSERVE] = float(check_flag("mpm option lump_conserve", opts["lump_conserve"]))
     three = str(opts["three_material"]).lower()
     if three not in THREE_MATERIAL_CODES:
         raise _err(f"mpm option three_material must be one of {sorted(THREE_MATERIAL_CODES)}, "
