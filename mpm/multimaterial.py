@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from interfaces.errors import check_flag, check_number, check_vector
+from interfaces.errors import CaseError, check_flag, check_number, check_vector
 from mpm import multimaterial_kernels as _k
 from mpm.multimaterial_constants import (
     HPERP_CODES, LAW_FRICTION, LAW_IMPERFECT, LAW_NONE, LAW_PERFECT, LAW_STICK, N_PARAMS,
@@ -164,11 +164,7 @@ class MultimaterialTables:
 
 
 def _err(msg: str) -> Exception:
-    try:
-        from interfaces.errors import CaseError
-        return CaseError(msg)
-    except ImportError:  # pragma: no cover - interfaces always present in the repo
-        return ValueError(msg)
+    return CaseError(msg)
 
 
 def _law_to_numbers(law, where: str) -> tuple[int, np.ndarray]:

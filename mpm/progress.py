@@ -3,9 +3,9 @@
 ``bar.update(fraction, note)`` moves the bar to ``fraction`` of the run (never back) and
 shows ``note``; ``close(note)`` ends the line. An ``open_ended`` run (quasi-static: it
 stops when it comes to rest, often long before the time limit the bar measures) shows no
-remaining-time estimate, which would count to the limit (35 min for a 4 min DCB run). The first run of an installation also says
-that numba is compiling the kernels (:func:`compile_notice`), so minutes of silence are
-explained.
+remaining-time estimate, which would count to the limit (35 min for a 4 min DCB run).
+The first run of an installation also says that numba is compiling the kernels
+(:func:`compile_notice`), so minutes of silence are explained.
 """
 from __future__ import annotations
 

@@ -241,6 +241,12 @@ class Model:
         self.force_limiting = self.tables is None or \
             bool(self.tables.settings[S_FORCE_LIMIT] != 0.0)
 
+    @property
+    def damped(self) -> bool:
+        """A quasi-static run: damped, it stops when it comes to rest (an undamped run is
+        dynamic and ends at max_time by design)."""
+        return self.opts["damping"] != "none"
+
     def current_time_step(self, velgrad: np.ndarray | None = None) -> float:
         """cfl x cell / the largest signal speed of the finite-strain particles in their
         current state (:func:`mpm.signal_speed.max_signal_speed`; at least the wave speed
@@ -447,7 +453,7 @@ class _Runner:
         est_time = 1e-7 * m.particles.P * total_steps
         show = m.opts["progress"] if m.opts["progress"] is not None else est_time > 5.0
         # a damped run stops at rest, mostly long before max_time, which the bar measures
-        damped = m.opts["damping"] != "none"
+        damped = m.damped
         rest = f" (rest: < {m.opts['tol']:g})" if damped else ""
         bar = ProgressBar(f"mpm {m.case.name}", enabled=bool(show), open_ended=damped)
         vtk_every = max(1, total_steps // m.opts["vtk_frames"]) if m.opts["vtk_dir"] else 0
@@ -693,7 +699,7 @@ class _Runner:
         the run is damped, Dn/Dt only where it has imperfect interfaces)."""
         m = self.m
         remedies = [f"reduce the time step (cfl, now dt = {m.dt:.3g} s)"]
-        if m.opts["damping"] != "none":
+        if m.damped:
             remedies.append(f"increase damping (alpha = {m.alpha:.3g} 1/s)")
         if m.tables is not None and m.tables.has_interfaces:
             remedies.append("lower the interface stiffness Dn/Dt")

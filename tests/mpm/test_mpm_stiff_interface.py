@@ -91,7 +91,7 @@ def test_divergence_advice_names_only_the_remedies_the_run_has(damping, interfac
 
     from mpm.solver import _Runner
     tables = SimpleNamespace(has_interfaces=interfaces)
-    model = SimpleNamespace(dt=1e-9, alpha=0.0, opts={"damping": damping}, tables=tables,
+    model = SimpleNamespace(dt=1e-9, alpha=0.0, damped=damping != "none", tables=tables,
                             force_limiting=True)
     run = SimpleNamespace(m=model, t=1e-5, steps=7000, _advice=lambda: "")
     text = _Runner._diverged(run, "energies became NaN/inf")
