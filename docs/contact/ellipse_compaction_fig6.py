@@ -8,7 +8,9 @@ ellipse_compaction_fig6.png and .csv here: the mean axial stress of the ellipses
 compression, the final particle domains (x + F [-l, l]^2, the particle shapes 004
 draws) coloured by ellipse with the particles found inside another ellipse
 (``interpenetration``) in black, and per method the final stress, the
-interpenetration count, the ellipses' current area over the box's area
+interpenetration count, the particles cut off from their own ellipse (their four
+nearest particles all of other ellipses: carried about a particle or more into another
+ellipse, whatever the shapes of the domains), the ellipses' current area over the box's area
 (``material_area_over_container``: above 1, material overlaps material, whatever the
 particle count says) and the run time (wall and CPU).
 
@@ -33,7 +35,7 @@ from cases.cli import parse_value  # noqa: E402
 from cases.contact import compression_strain  # noqa: E402
 from cases.methods import run  # noqa: E402
 from interfaces.errors import SolverError  # noqa: E402
-from mpm.interpenetration import inside_other_material  # noqa: E402
+from mpm.interpenetration import cut_off_from_own_material, inside_other_material  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 
@@ -119,26 +121,28 @@ def main() -> None:
     # the compacted boxes (1 x 0.5 mm) one above the other beside the stress histories
     fig, axes = plt.subplot_mosaic([["stress", c] for c in contacts], figsize=(11.5, 1.2 + 2.8 * len(contacts)),
                                    width_ratios=[1.2, 1])
-    rows = ["contact,three_material,cell_mm,options,final_strain,final_stress_GPa,interpenetration,particles,area_over_box,wall_s,cpu_s"]
+    rows = ["contact,three_material,cell_mm,options,final_strain,final_stress_GPa,interpenetration,"
+            "cut_off,particles,area_over_box,wall_s,cpu_s"]
     for c, r in runs.items():
         axes["stress"].plot(100 * r["strain"], r["stress"] / 1e3, label=f"{c}")
+        ell = np.char.startswith(r["names"][r["material"]], "ellipse")
+        cut_off = int(cut_off_from_own_material(r["position"][ell], r["material"][ell]).sum())
         rows.append(f"{','.join(split_run(c, args.three_material))},{args.cell:g},{' '.join(args.option)},{r['strain'][-1]:.4f},"
-                    f"{r['stress'][-1] / 1e3:.2f},{int(r['interpenetration'])},{int(r['particles'])},"
+                    f"{r['stress'][-1] / 1e3:.2f},{int(r['interpenetration'])},{cut_off},{int(r['particles'])},"
                     f"{float(r['area_over_box']):.3f},"
                     f"{float(r['wall_s']):.0f},{float(r['cpu_s']):.0f}")
         print(rows[-1], flush=True)
         ax = axes[c]
-        ell = np.char.startswith(r["names"][r["material"]], "ellipse")
         draw_domains(ax, r, ell)
         ax.set_aspect("equal")
         top = r["position"][ell, 1].max() + 3.0 * args.cell     # the compacted box, not the walls above
         ax.set_xlim(r["position"][:, 0].min() - args.cell, r["position"][:, 0].max() + args.cell)
         ax.set_ylim(r["position"][:, 1].min() - args.cell, top)
-        ax.set_title(f"{c}: {int(r['interpenetration'])} particles inside another ellipse (black); "
-                     f"ellipse area / box {float(r['area_over_box']):.2f}", fontsize=8)
+        ax.set_title(f"{c}: {int(r['interpenetration'])} particles inside another ellipse (black), "
+                     f"{cut_off} cut off; ellipse area / box {float(r['area_over_box']):.2f}", fontsize=8)
         ax.set_xticks([])
         ax.set_yticks([])
-    rows += [f"{','.join(split_run(c, args.three_material))},{args.cell:g},{' '.join(args.option)},failed: {why},,,,,,"
+    rows += [f"{','.join(split_run(c, args.three_material))},{args.cell:g},{' '.join(args.option)},failed: {why},,,,,,,"
              for c, why in failed.items()]
     ax = axes["stress"]
     ax.set_xlabel("compression strain (%)")

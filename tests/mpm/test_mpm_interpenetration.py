@@ -4,7 +4,7 @@ q of that material; the bodies' area over the area of the container of rigid wal
 import numpy as np
 import pytest
 
-from mpm.interpenetration import inside_other_material
+from mpm.interpenetration import cut_off_from_own_material, inside_other_material
 
 S = 0.5                      # particle spacing
 HALF = np.full(2, 0.5 * S)
@@ -32,6 +32,26 @@ def test_touching_blocks_do_not_interpenetrate_and_overlapping_ones_do():
     x = np.vstack([a, a + 0.1])
     assert not inside_other_material(x, np.zeros(len(x), int), np.broadcast_to(np.eye(2), (len(x), 2, 2)),
                                      HALF).any()
+
+
+def test_cut_off_counts_particles_carried_into_another_material_not_sheared_domains():
+    """Two touching 4 x 4 blocks: none cut off. A particle of the left block moved one
+    spacing into the right one (centre on a right-block particle's row, between two of its
+    columns) is cut off; one moved half a spacing is not, though its centre then lies in
+    a right-block particle's domain."""
+    a, b = _block(0.0, 0.0), _block(4 * S, 0.0)
+    field = np.repeat([0, 1], [len(a), len(b)])
+    assert not cut_off_from_own_material(np.vstack([a, b]), field).any()
+    deep = a.copy()
+    deep[-3] = (4.5 * S + 0.5 * S, 1.5 * S)       # the right column's second particle, into B
+    hit = cut_off_from_own_material(np.vstack([deep, b]), field)
+    assert np.flatnonzero(hit).tolist() == [len(a) - 3]
+    shallow = a.copy()
+    shallow[-3] = (4.0 * S + 0.1 * S, 1.5 * S)
+    x = np.vstack([shallow, b])
+    assert not cut_off_from_own_material(x, field).any()
+    assert inside_other_material(x, field, np.broadcast_to(np.eye(2), (len(x), 2, 2)), HALF)[len(a) - 3]
+    assert not cut_off_from_own_material(x[:1], field[:1]).any()      # a lone particle
 
 
 def test_the_domain_follows_the_deformation_gradient():
