@@ -180,7 +180,6 @@ def musl_contact_momenta(mom, mass, vel, vs, blend, pairs, nodes) -> int:
     changed = 0
     for q in range(nodes.size):
         i = nodes[q]
-        light = MUSL_LIGHT_FIELD * np.sum(mass[i])
         contact = False
         for a in range(M):
             for b in range(a + 1, M):
@@ -191,6 +190,7 @@ def musl_contact_momenta(mom, mass, vel, vs, blend, pairs, nodes) -> int:
         if not contact:
             continue
         changed += 1
+        light = MUSL_LIGHT_FIELD * np.sum(mass[i])
         for f in range(M):
             if mass[i, f] < light:
                 continue

@@ -133,12 +133,17 @@ def test_musl_contact_momenta_leave_a_light_field_its_reextrapolated_momentum():
     grids"). A node whose pair obeys no contact condition is left alone."""
     from mpm.multimaterial import build_pair_tables
     from mpm.state import pair_tables
-    mat = IsotropicElastic(E=E, nu=0.0, rho=RHO)
-    case = Case(name="pair", analysis="plane_strain", thickness=1.0, materials={"m": mat},
-                bodies=[Body("a", Rectangle(0.0, 0.0, 1.0, 1.0), "m"),
-                        Body("b", Rectangle(1.0, 0.0, 1.0, 1.0), "m")],
-                interfaces=[InterfacePair("a", "b", CoulombFriction(0.0))])
-    pairs = pair_tables(build_pair_tables(case, merge(case, {"cell": 1.0})), None, 1.0, 1, 2, 2)
+
+    def pairs_for(law):
+        """Pair tables of two blocks meeting under ``law``, for one node of two fields."""
+        case = Case(name="pair", analysis="plane_strain", thickness=1.0,
+                    materials={"m": IsotropicElastic(E=E, nu=0.0, rho=RHO)},
+                    bodies=[Body("a", Rectangle(0.0, 0.0, 1.0, 1.0), "m"),
+                            Body("b", Rectangle(1.0, 0.0, 1.0, 1.0), "m")],
+                    interfaces=[InterfacePair("a", "b", law)])
+        return pair_tables(build_pair_tables(case, merge(case, {"cell": 1.0})), None, 1.0, 1, 2, 2)
+
+    pairs = pairs_for(CoulombFriction(0.0))
     mass = np.array([[1.0, 0.1 * MUSL_LIGHT_FIELD]])
     mom = np.array([[[3.0, -1.0], [5e-4, 2e-4]]])
     vel = np.array([[[4.0, 2.0], [1e7, -3e7]]])
@@ -151,9 +156,7 @@ def test_musl_contact_momenta_leave_a_light_field_its_reextrapolated_momentum():
     mass[0, 1] = 10 * MUSL_LIGHT_FIELD                          # above the threshold: corrected
     musl_contact_momenta(mom, mass, vel, vs, blend, pairs, np.array([0]))
     assert np.allclose(mom[0, 1], mass[0, 1] * ((1 - blend) * vel[0, 1] + blend * vs[0, 1]))
-    bonded = Case(name="pair", analysis="plane_strain", thickness=1.0, materials={"m": mat},
-                  bodies=case.bodies, interfaces=[InterfacePair("a", "b", LinearInterface(np.inf, np.inf))])
-    pairs = pair_tables(build_pair_tables(bonded, merge(bonded, {"cell": 1.0})), None, 1.0, 1, 2, 2)
+    pairs = pairs_for(LinearInterface(np.inf, np.inf))         # bonded: no contact condition
     before = mom.copy()
     assert musl_contact_momenta(mom, mass, vel, vs, blend, pairs, np.array([0])) == 0
     assert np.array_equal(mom, before)
