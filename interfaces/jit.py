@@ -21,6 +21,19 @@ array arguments spent about two thirds of the time step of a static double lap s
 ``np.empty`` in it) nor keep an array returned by a call; the functions it calls inherit
 the setting unless they set ``refcount=True``, which a kernel that allocates and is
 called from such a kernel must therefore state.
+
+Fast math is ``fastmath=FMA``: LLVM may fuse a multiply and an add into one fused
+multiply-add, and nothing else. numba's ``fastmath=True`` also lets LLVM reassociate
+floating-point sums, and then a kernel compiled in the running process and the same
+kernel loaded from numba's cache gave different results: ellipse_compaction (0.025 mm,
+LR, CPDI + XPIC(5)) had positions 1e-15 mm apart after 2 % compression and 3.6e-13 mm
+after 10 %, which the jammed packing amplified into another final state, so the first run
+after the kernels compiled never matched the runs after it. Where the two differ (some
+callee optimised on its own in one and inside its caller in the other) was not traced;
+with reassociation off the two runs are bit-identical to the end of the 75 %
+compression. Cost on the uGIMP block of benchmarks/bench_mpm_xpic.py, against
+``fastmath=True`` in the same run: 0.94-0.98 of its throughput (without any fast math
+0.82-0.88). :func:`njit` refuses other fast-math settings.
 """
 from __future__ import annotations
 
@@ -33,6 +46,10 @@ from numba.core.registry import CPUDispatcher
 #: numba's (private) ``_nrt`` option exists; without it ``refcount`` is ignored and the
 #: kernels keep their reference counting (slower, the same results)
 HAS_NRT_OPTION = hasattr(CPUTargetOptions, "_nrt")
+
+#: the one fast-math setting of the project's kernels: fused multiply-add only
+#: (module docstring); every dispatcher holds this very set: never change it
+FMA = {"contract"}
 
 
 class NonLiteralDispatcher(CPUDispatcher):
@@ -53,6 +70,11 @@ def njit(*args, refcount: bool | None = None, **options):
     """``numba.njit`` (same arguments, bare or called) returning a
     :class:`NonLiteralDispatcher`; ``refcount`` False / True compiles without / with
     numba's reference counting (module docstring), None inherits it from the caller."""
+    fastmath = options.get("fastmath", False)
+    if fastmath is not False and fastmath != FMA:
+        raise ValueError(f"njit: fastmath={fastmath!r} is not allowed; use fastmath=FMA "
+                         "(interfaces.jit: with reassociation a kernel compiled in the "
+                         "process and its cached copy differ at round-off)")
     if refcount is not None and HAS_NRT_OPTION:
         options["_nrt"] = bool(refcount)
     if args and callable(args[0]):

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from interfaces.jit import njit
+from interfaces.jit import FMA, njit
 
 from .shape import shape_2d_work, stencil_work
 
@@ -55,7 +55,7 @@ def axis_nodes(node_positions: np.ndarray, cell: np.ndarray) -> np.ndarray:
     return np.flatnonzero(np.abs(r) <= 1e-9 * float(cell[0])).astype(np.int64)
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def hoop_force(x, pvol, stress, field, origin, cell, nn, lp, kind, force):
     """Add the hoop term -V_p sigma_tt S_ip / r_p to the radial nodal force."""
     idx, S, G, wx, dwx, wy, dwy = stencil_work()
@@ -68,7 +68,7 @@ def hoop_force(x, pvol, stress, field, origin, cell, nn, lp, kind, force):
             force[idx[k], f, 0] -= q * S[k]
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def interface_volumes(x, pvol, field, origin, cell, nn, lp, kind, node_t, volume, volgrad):
     """Nodal volumes and volume gradients of each field for the contact area and the
     normals: sum_p S_ip A_p t_i and sum_p grad S_ip A_p t_i, with A_p = V_p / r_p the
@@ -96,7 +96,7 @@ def interface_volumes(x, pvol, field, origin, cell, nn, lp, kind, node_t, volume
             volgrad[n, f, 1] += G[k, 1] * w
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def radial_velocity(x, field, origin, cell, nn, lp, kind, mass, mom, out):
     """out[p] = sum_i S_ip p_i,r / m_i over the particle's own field (MUSL: from the
     re-extrapolated momenta)."""
@@ -113,7 +113,7 @@ def radial_velocity(x, field, origin, cell, nn, lp, kind, mass, mom, out):
         out[p] = vr
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def hoop_stress_update(d_hoop, strain_before, stress, strain, pvol, pvol0, field, C,
                        mkind) -> float:
     """Complete a step's stress update with the hoop strain increment ``d_hoop``

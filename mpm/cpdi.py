@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from interfaces.jit import njit
+from interfaces.jit import FMA, njit
 
 from .kernels import normalise_fields, zero_nodal
 from .shape import B2, B2CPDI, CPDI, LINEAR, axis_weights3
@@ -59,7 +59,7 @@ def corner_kind(kind: int) -> int:
     return B2 if kind == B2CPDI else LINEAR
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def domain(p, x, F, hw):
     """Corner 0 and the half domain vectors of particle p, with the corner-gradient
     vectors divided by the area: (c0x, c0y, r1x, r1y, r2x, r2y, g0x, g0y, g1x, g1y)."""
@@ -72,7 +72,7 @@ def domain(p, x, F, hw):
             (r1y - r2y) * inv, (r2x - r1x) * inv, (r1y + r2y) * inv, -(r1x + r2x) * inv)
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def corner(k, c0x, c0y, r1x, r1y, r2x, r2y, g0x, g0y, g1x, g1y):
     """Position of corner k (counter-clockwise from c0) and its gradient coefficients
     (g_k / A_p): (x, y, gx, gy)."""
@@ -90,7 +90,7 @@ def _pick(k, a0, a1, a2):
     return a0 if k == 0 else (a1 if k == 1 else a2)
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def corner_weights(cx, cy, origin, cell, nn, base):
     """1D grid-function values of a corner along x and y: (i0, j0, count, wx0..2,
     wy0..2); count (nodes per axis) -1 when the corner's support leaves the grid."""
@@ -132,7 +132,7 @@ def shape_cpdi(p, x, F, hw, origin, cell, nn, kind, idx, S, G) -> int:
 # -------------------------------------------------------------------- P2G ----
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_cpdi(x, v, pmass, pvol, stress, field, x0, F, hw, fext, foff, foff0, load_scale,
              origin, cell, nn, kind, multi, internal, mass, mom, force, volume, volgrad, disp,
              pos):
@@ -153,7 +153,7 @@ def p2g_cpdi(x, v, pmass, pvol, stress, field, x0, F, hw, fext, foff, foff0, loa
     return -1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def scatter_cpdi(lo, hi, x, v, pmass, pvol, stress, field, x0, F, hw, origin, cell, nn,
                  kind, multi, internal, mass, mom, force, volume, volgrad, disp, pos):
     """Scatter of particles lo..hi-1 corner by corner, added to the nodal arrays."""
@@ -199,7 +199,7 @@ def scatter_cpdi(lo, hi, x, v, pmass, pvol, stress, field, x0, F, hw, origin, ce
     return -1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def traction_weights_cpdi(p, x, F, hw, foff, foff0, origin, cell, nn, kind, tidx, tw) -> int:
     """Nodes and weights carrying the traction of particle p (``tidx``, ``tw``: >= 36,
     one entry per (point, node); returns their number).
@@ -241,7 +241,7 @@ def traction_weights_cpdi(p, x, F, hw, foff, foff0, origin, cell, nn, kind, tidx
     return c
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def tractions_cpdi(x, field, fext, foff, foff0, F, hw, load_scale, origin, cell, nn, kind,
                    force):
     """The ramped traction forces on the loaded domain edges (foff = F foff_0), on the
@@ -258,7 +258,7 @@ def tractions_cpdi(x, field, fext, foff, foff0, F, hw, load_scale, origin, cell,
                 force[tidx[k], f, 1] += tw[k] * fext[p, 1] * load_scale
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def internal_force_cpdi(x, pvol, stress, field, F, hw, origin, cell, nn, kind, force):
     """USF second pass: add -V_p sigma_p . grad S_ip to ``force``."""
     nx = nn[0]
@@ -281,7 +281,7 @@ def internal_force_cpdi(x, pvol, stress, field, F, hw, origin, cell, nn, kind, f
                     force[node, f, 1] -= stress[p, 2] * Gx + stress[p, 1] * Gy
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def momentum_cpdi(x, v, pmass, field, F, hw, origin, cell, nn, kind, mass, mom):
     """MUSL: mass and momentum of the updated particles re-extrapolated (start-of-step
     domains)."""
@@ -309,7 +309,7 @@ def momentum_cpdi(x, v, pmass, field, F, hw, origin, cell, nn, kind, mass, mom):
 # ------------------------------------------------------- G2P and stress ----
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _gather(p, x, F, hw, origin, cell, nn, kind, f, vel, acc, mass, use_mass):
     """Velocity, acceleration and velocity gradient of particle p from the nodal fields
     of its field f: (ax, ay, vx, vy, L00, L01, L10, L11, lost). ``use_mass``: nodal
@@ -360,7 +360,7 @@ def _gather(p, x, F, hw, origin, cell, nn, kind, f, vel, acc, mass, use_mass):
     return ax, ay, vx, vy, L00, L01, L10, L11, False
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _update_linear(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol, pvol0, F, foff,
                    foff0) -> float:
     """Small-strain field of a CPDI run: sigma += C sym(L) dt, strain += sym(L) dt, F <-
@@ -393,7 +393,7 @@ def _update_linear(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol, pvol0,
                              + stress[p, 2] * strain[p, 2])
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def g2p_cpdi(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, foff0, F, hw,
              load_scale, C, origin, cell, nn, kind, dt, pic, update_stress, nvel, nacc,
              velgrad, mkind):
@@ -444,7 +444,7 @@ def g2p_cpdi(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, foff0,
     return ke, U, work, lost, ke_grid
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def stress_cpdi(x, pvol, pvol0, stress, strain, field, foff, foff0, F, hw, C, origin, cell,
                 nn, kind, dt, mass, mom, velgrad, mkind) -> float:
     """USF / MUSL stress update with L = sum (p_i / m_i) (x) grad S_ip of the particle's

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from interfaces.jit import njit
+from interfaces.jit import FMA, njit
 
 from .multimaterial_constants import LAW_IMPERFECT, LAW_NONE, LAW_PERFECT
 from .multimaterial_kernels import _pair_law
@@ -76,7 +76,7 @@ def _solve_in_place(A, B, D) -> bool:
     return True
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def displacement_to_nodes(mass, displacement, position, nodes, origin, cell, nn, law_kind,
                           law_params, node_zone, zone_pairs, zone_kind, zone_params, work):
     """Replace ``displacement[i, k]`` at the multimaterial ``nodes`` by the first-order

@@ -38,7 +38,7 @@ import math
 import numpy as np
 
 from interfaces.errors import CaseError
-from interfaces.jit import njit
+from interfaces.jit import FMA, njit
 from interfaces.materials import VOLUMETRIC_TERMS, MieGruneisen, NeoHookean
 
 from . import mie_gruneisen as MG
@@ -110,7 +110,7 @@ def identity_gradients(P: int) -> np.ndarray:
     return np.ascontiguousarray(np.broadcast_to(np.eye(3), (P, 3, 3)))
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def volumetric_terms(J, K, code):
     """(U(J), U'(J)) of the volumetric term ``code``."""
     if code == U_J_MINUS_1_SQUARED:
@@ -121,7 +121,7 @@ def volumetric_terms(J, K, code):
     return 0.5 * K * (0.5 * (J * J - 1.0) - math.log(J)), 0.5 * K * (J - 1.0 / J)
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def volumetric_stiffness(J, K, code):
     """J^2 U''(J) of the volumetric term ``code``: the bulk term of the acoustic tensor
     (:mod:`mpm.signal_speed`; K at rest for every code)."""
@@ -138,7 +138,7 @@ def _right_cauchy_green(F, i, j):
     return F[0, i] * F[0, j] + F[1, i] * F[1, j] + F[2, i] * F[2, j]
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def finite_strain_update(velgrad, F, stress, strain, pvol, pvol0, x, x0, foff, foff0, field,
                          kind, params, dt, axisymmetric, eos) -> float:
     """The update of the module docstring for every particle of a finite-strain field,

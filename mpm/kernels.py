@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from interfaces.jit import njit
+from interfaces.jit import FMA, njit
 
 from .shape import (axis_weights, axis_weights3, axis_weights_tuple, edge_kind, shape_2d_work,
                     stencil_work)
@@ -36,7 +36,7 @@ UPDATE_CODES = {"usl": USL, "usf": USF, "musl": MUSL}
 # -------------------------------------------------------------------- P2G ----
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _support(x, y, origin, cell, nn, lp, kind, wx, dwx, wy, dwy):
     """1D weights along x and y of one particle; returns (i0, j0, nodes along x,
     nodes along y), the counts -1 if the support leaves the grid."""
@@ -75,7 +75,7 @@ def normalise_weights(tw, c, tot) -> bool:
     return True
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def _traction_weights(px, py, ex, ey, origin, cell, nn, lp, kind, tidx, tw,
                       wx, dwx, wy, dwy, qx, dqx, qy, dqy):
     """Nodes and weights carrying the traction of the particle at (px, py) whose loaded
@@ -123,7 +123,7 @@ def _traction_weights(px, py, ex, ey, origin, cell, nn, lp, kind, tidx, tw,
     return c
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_2d(x, v, pmass, pvol, stress, field, x0, fext, foff, load_scale,
            origin, cell, nn, lp, kind, multi, internal,
            mass, mom, force, volume, volgrad, disp, pos):
@@ -177,7 +177,7 @@ def _window3(i0, n, w0, w1, w2):
     return i0, w0, w1, w2
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_range_2d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, kind,
                  multi, internal, mass, mom, force, volume, volgrad, disp, pos, xnode=None,
                  xweight=None):
@@ -272,7 +272,7 @@ def p2g_range_2d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn,
     return -1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_tractions_2d(x, field, fext, foff, load_scale, origin, cell, nn, lp, kind, force):
     """Add the ramped particle traction forces ``load_scale * fext`` to ``force`` at the
     nodes of the loaded particle edges (:func:`_traction_weights`)."""
@@ -288,7 +288,7 @@ def p2g_tractions_2d(x, field, fext, foff, load_scale, origin, cell, nn, lp, kin
                 force[tidx[k], f, 1] += tw[k] * fext[p, 1] * load_scale
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def normalise_fields(mass, disp, pos):
     """Mass-weighted sums of displacement and position -> field averages (000 Eq 13)."""
     for n in range(mass.shape[0]):
@@ -300,7 +300,7 @@ def normalise_fields(mass, disp, pos):
                     pos[n, f, d] *= inv
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_internal_force_2d(x, pvol, stress, field, origin, cell, nn, lp, kind, force):
     """Add the internal force -V_p sigma_p . grad S_ip to ``force`` (USF second pass)."""
     idx, S, G, wx, dwx, wy, dwy = stencil_work()
@@ -347,7 +347,7 @@ def real_share(real_mass, mass, n, f) -> float:
     return real_mass[n, f] / mass[n, f]
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel, real_mass):
     """Momentum update p+ = p + (f - alpha p) dt (004 Eq 30) with grid damping alpha,
     then nodal velocity conditions per field: p+ = m v_bc and f += (m v_bc - p+)/dt.
@@ -390,7 +390,7 @@ def grid_update(mass, mom, force, dt, alpha, bc_node, bc_field, bc_comp, bc_vel,
 # -------------------------------------------------------- G2P and stress ----
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def nodal_kinematics(mass, mom, force, nvel, nacc):
     """Nodal velocity v = p/m and acceleration a = f/m per field (0 where m = 0).
 
@@ -407,7 +407,7 @@ def nodal_kinematics(mass, mom, force, nvel, nacc):
                 nacc[n, f, d] = force[n, f, d] * inv
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _stress_increment(p, f, L00, L01, L10, L11, dt, C, stress, strain, pvol):
     """Incremental small strain d_eps = sym(L) dt (engineering shear), sigma += C d_eps."""
     e0 = L00 * dt
@@ -430,7 +430,7 @@ def store_gradient_2d(velgrad, p, L00, L01, L10, L11):
     velgrad[p, 1, 1] = L11
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_scale, C,
            origin, cell, nn, lp, kind, dt, pic, update_stress,
            nvel, nacc, velgrad, mkind):
@@ -456,7 +456,7 @@ def g2p_2d(x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff, load_sca
                         update_stress, nvel, nacc, velgrad, mkind)[:5]
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _gather_row3(k, st, wy, dwy, w0, w1, w2, d0, d1, d2, vf, af):
     """Sums over the 3 nodes k, k + st, k + 2 st of one stencil row (flat index k of the
     x component, st the flat stride between x-neighbours): (S a_x, S a_y, S v_x, S v_y,
@@ -486,7 +486,7 @@ def _gather_row3(k, st, wy, dwy, w0, w1, w2, d0, d1, d2, vf, af):
             gy0 * v0 + gy1 * v1 + gy2 * v2)
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _row3(k, st, wy, w0, w1, w2, f):
     """wy (w0, w1, w2) . f over the 3 nodes k, k + st, k + 2 st of one stencil row (x and y
     components)."""
@@ -494,7 +494,7 @@ def _row3(k, st, wy, w0, w1, w2, f):
             wy * (w0 * f[k + 1] + w1 * f[k + st + 1] + w2 * f[k + 2 * st + 1]))
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
                  load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc,
                  velgrad, mkind, beta=0.0, vtil=None):
@@ -610,7 +610,7 @@ def g2p_range_2d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
     return ke, U, work, lost, ke_grid, ke_flip
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn, lp, kind,
                         dt, mass, mom, velgrad, mkind):
     """Stress update with L = sum (p_i/m_i) (x) grad S_ip of the particle's own field.
@@ -663,7 +663,7 @@ def stress_from_grid_2d(x, pvol, pvol0, stress, strain, field, C, origin, cell, 
     return U
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_momentum_2d(x, v, pmass, field, origin, cell, nn, lp, kind, mass, mom):
     """Re-extrapolate mass and momentum of the updated particles (MUSL, Sulsky et al.)."""
     mass[:] = 0.0

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from interfaces.jit import njit
+from interfaces.jit import FMA, njit
 
 from .kernels import normalise_weights
 from .shape import axis_weights3, axis_weights_tuple, edge_kind
@@ -35,7 +35,7 @@ def inside_3d(i0, j0, k0, nax, nay, naz, nn) -> bool:
             and k0 + naz <= nn[2])
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _axes(x, y, z, origin, cell, lp, kind):
     """1D weights along x, y and z of one point (:func:`mpm.shape.axis_weights_tuple`)."""
     ax = axis_weights_tuple(x, origin[0], cell[0], lp[0], kind)
@@ -44,7 +44,7 @@ def _axes(x, y, z, origin, cell, lp, kind):
     return ax, ay, az
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_range_3d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn, lp, kind,
                  multi, internal, mass, mom, force, volume, volgrad, disp, pos):
     """Scatter of particles lo..hi-1 into the nodal arrays (added to what they hold):
@@ -102,7 +102,7 @@ def p2g_range_3d(lo, hi, x, v, pmass, pvol, stress, field, x0, origin, cell, nn,
     return -1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def _traction_nodes_3d(p, x, foff, origin, cell, nn, lp, kind, tidx, tw) -> int:
     """Nodes and weights carrying the traction of particle p (the 3D form of
     :func:`mpm.kernels._traction_weights`): the surface-point grid weights at the
@@ -148,7 +148,7 @@ def _traction_nodes_3d(p, x, foff, origin, cell, nn, lp, kind, tidx, tw) -> int:
     return c
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_tractions_3d(x, field, fext, foff, load_scale, origin, cell, nn, lp, kind, force):
     """Add the ramped particle traction forces ``load_scale * fext`` to ``force``."""
     tidx = np.empty(27, np.int64)
@@ -162,7 +162,7 @@ def p2g_tractions_3d(x, field, fext, foff, load_scale, origin, cell, nn, lp, kin
                     force[tidx[k], f, d] += tw[k] * fext[p, d] * load_scale
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def stress_increment_3d(p, f, L, dt, C, stress, strain, pvol) -> None:
     """Small-strain increment d_eps = sym(L) dt (Voigt [xx, yy, zz, yz, xz, xy],
     engineering shear), sigma += C d_eps, V *= 1 + tr(d_eps)."""
@@ -185,7 +185,7 @@ def store_gradient_3d(velgrad, p, L) -> None:
             velgrad[p, i, j] = L[i, j]
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _strain_energy(p, pvol0, stress, strain) -> float:
     s = 0.0
     for a in range(6):
@@ -193,7 +193,7 @@ def _strain_energy(p, pvol0, stress, strain) -> float:
     return 0.5 * pvol0[p] * s
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def g2p_range_3d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, foff,
                  load_scale, C, origin, cell, nn, lp, kind, dt, pic, update_stress, nvel, nacc,
                  velgrad, mkind):
@@ -266,7 +266,7 @@ def g2p_range_3d(lo, hi, x, v, pmass, pvol, pvol0, stress, strain, field, fext, 
     return ke, U, work, lost, ke_grid
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def stress_from_grid_3d(x, pvol, pvol0, stress, strain, field, C, origin, cell, nn, lp, kind,
                         dt, mass, mom, velgrad, mkind):
     """Stress update with L = sum (p_i/m_i) (x) grad S_ip of the particle's own field
@@ -310,7 +310,7 @@ def stress_from_grid_3d(x, pvol, pvol0, stress, strain, field, C, origin, cell, 
     return U
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_momentum_3d(x, v, pmass, field, origin, cell, nn, lp, kind, mass, mom):
     """Re-extrapolate mass and momentum of the updated particles (MUSL)."""
     mass[:] = 0.0
@@ -336,7 +336,7 @@ def p2g_momentum_3d(x, v, pmass, field, origin, cell, nn, lp, kind, mass, mom):
                         mom[n, f, d] += s * v[p, d]
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def p2g_internal_force_3d(x, pvol, stress, field, origin, cell, nn, lp, kind, force):
     """Add the internal force -V_p sigma_p . grad S_ip to ``force`` (USF second pass)."""
     nx = nn[0]

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 
-from interfaces.jit import njit
+from interfaces.jit import FMA, njit
 
 #: columns of the per-field parameter table of mpm.finite_strain after K, G, volumetric code
 P_S1 = 3
@@ -49,7 +49,7 @@ E_PRESSURE = 1   # P = p + q of the last update (MPa)
 N_STATE = 2
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def cold_pressure(eta, K, S1, gamma0):
     """(f, df/deta): the energy-free part of Eq 51 and its slope; NaN at S1 eta >= 1
     (the Hugoniot singularity), so the run stops with the divergence message."""
@@ -63,7 +63,7 @@ def cold_pressure(eta, K, S1, gamma0):
     return K * num / (d * d), K * (dnum * d + 2.0 * S1 * num) / (d * d * d)
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def bulk_wave_speed(J, p, K, S1, gamma0, rho0):
     """Current bulk wave speed C = sqrt(dp/drho) along the isentrope: with
     d(rho0 U)/deta = p there (no heat), dp/deta = f'(eta) + gamma0 p in compression and
@@ -74,7 +74,7 @@ def bulk_wave_speed(J, p, K, S1, gamma0, rho0):
     return J * math.sqrt(max(slope, 0.0) / rho0)
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def pressure_update(J, J_old, W, dt, prm, eos, p):
     """The total pressure P = p + q of Eq 51-52 at J (``J_old`` the step's start) and the
     trapezoidal energy update of the module docstring; ``W`` the particle's isochoric

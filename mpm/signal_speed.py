@@ -33,14 +33,14 @@ import math
 
 import numpy as np
 
-from interfaces.jit import njit
+from interfaces.jit import FMA, njit
 
 from .finite_strain import (LINEAR, MIE_GRUNEISEN, P_G, P_K, P_VOLUMETRIC,
                             volumetric_stiffness)
 from . import mie_gruneisen as MG
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _extreme_eigenvalues(s, D):
     """(smallest, largest) eigenvalue of the symmetric 3 x 3 ``s`` (D = 3) or of its
     upper-left 2 x 2 block (D = 2): closed form, the trigonometric one in 3D."""
@@ -62,7 +62,7 @@ def _extreme_eigenvalues(s, D):
     return q + 2.0 * p * math.cos(phi + 2.0 * math.pi / 3.0), q + 2.0 * p * math.cos(phi)
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def longitudinal_modulus_bound(F, G, B, D):
     """Largest rho0 c^2 (MPa) over the wave directions of the module docstring (a bound in
     3D) for
@@ -89,7 +89,7 @@ def longitudinal_modulus_bound(F, G, B, D):
     return mu + 0.5 * beta + sigma / 3.0 + math.sqrt(max(a + slope * sigma, 0.0))
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def max_signal_speed(F, eos, velgrad, v, field, kind, params, rho0) -> float:
     """Largest signal speed (mm/s) over the finite-strain particles: c_q + sqrt(c_q^2 +
     c_L^2) + |v|, with c_L^2 = :func:`longitudinal_modulus_bound` / rho0 (``rho0`` per

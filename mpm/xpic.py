@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from interfaces.jit import njit
+from interfaces.jit import FMA, njit
 
 from .cpdi import is_cpdi, shape_cpdi
 from .kernels import _pick, nodal_kinematics
@@ -133,7 +133,7 @@ def stencil_arrays(P: int, D: int, cpdi: bool, xpic: int) -> tuple:
     return np.zeros((2, P, D)), np.zeros((0, 1), np.int64), np.zeros((0, 6))
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _window_gather(wf, slot, k, st, srow, w0, w1, w2, q0, q1, q2):
     """(S w)_p of a 3 x 3 window: node weights w0..w2 (x) times q0..q2 (y), ``k`` the flat
     index of the window's first node, ``st`` / ``srow`` the flat strides along x / y."""
@@ -148,7 +148,7 @@ def _window_gather(wf, slot, k, st, srow, w0, w1, w2, q0, q1, q2):
     return a0, a1
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+@njit(cache=True, inline="always", fastmath=FMA, error_model="numpy")
 def _window_scatter(wf, slot, k, st, srow, w0, w1, w2, q0, q1, q2, a0, a1) -> None:
     """wf[slot, i] += S_ip (a0, a1) over the 3 x 3 window of :func:`_window_gather` (the
     particle mass already in the weights)."""
@@ -162,7 +162,7 @@ def _window_scatter(wf, slot, k, st, srow, w0, w1, w2, q0, q1, q2, a0, a1) -> No
             wf[slot, c + 1] += s * a1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def _scatter_2d(node, wgt, pmass, nx, M, wf, src, dst, pair, band) -> None:
     """The particle loop of :func:`scatter_passes` in 2D on the step's stencils (``wf``:
     the work slots, each flat): dst += sum_p m_p S_ip (S src)_p per field, unnormalised,
@@ -252,7 +252,7 @@ def _scatter_pass_any(x, pmass, field, origin, cell, nn, lp, kind, work, src, ds
                 wf[dst, k + d] += mp * wt[c] * sv[d]
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=FMA, error_model="numpy")
 def stencils_cpdi(x, F, hw, origin, cell, nn, kind, node, wgt) -> None:
     """The CPDI / B2-CPDI node lists of the particles (mpm/cpdi.py, one entry per corner
     and node, a node reached by several corners listed once per corner), computed once
@@ -263,7 +263,7 @@ def stencils_cpdi(x, F, hw, origin, cell, nn, kind, node, wgt) -> None:
         node[p, 0] = shape_cpdi(p, x, F, hw, origin, cell, nn, kind, node[p, 1:], wgt[p], G)
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def _scatter_list(node, wgt, pmass, field, work, src, dst, pair) -> None:
     """The particle loop of :func:`scatter_passes` on node lists (CPDI shapes, 2D; ``pair``
     as in :func:`_scatter_2d`)."""
@@ -292,7 +292,7 @@ def _scatter_list(node, wgt, pmass, field, work, src, dst, pair) -> None:
                 work[pair[1], n, f, 1] += w * b1
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def _gather_list(node, wgt, field, work, nvel, out) -> None:
     """:func:`gather_particles` on node lists (CPDI shapes, 2D)."""
     for p in range(node.shape[0]):
@@ -369,7 +369,7 @@ def xpic_grid_velocity(m, corrected, x, pmass, field, origin, cell, nn, lp, kind
     _finish(wf, nacc.reshape(-1), m, dt)
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def _series_terms(wf, inv, D, cv, sign) -> None:
     """After the pass k: v*_k = cv S+ S v*_{k-1} (VN over the nodal mass, Eq 43) into VK,
     added with its sign to the sum v*_alpha in VS (Eq 42)."""
@@ -379,7 +379,7 @@ def _series_terms(wf, inv, D, cv, sign) -> None:
         wf[VS, e] += sign * vk
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def _series_terms_dv(wf, inv, D, cv, sign, cdv, cd) -> None:
     """:func:`_series_terms` with the Delta v terms: the sum also takes cdv Delta v*_{k-1}
     (Eq 42) and, with ``cd`` != 0, Delta v*_k = cd S+ S Delta v*_{k-1} (DN, Eq 44) goes
@@ -392,7 +392,7 @@ def _series_terms_dv(wf, inv, D, cv, sign, cdv, cd) -> None:
             wf[DK, e] = cd * inv[e // D] * wf[DN, e]
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", refcount=False)
+@njit(cache=True, fastmath=FMA, error_model="numpy", refcount=False)
 def _finish(wf, acc, m, dt) -> None:
     """v~ = m (v_alpha - v*_alpha) + a_alpha dt into VS (Eq 41)."""
     for e in range(wf.shape[1]):

@@ -11,7 +11,7 @@ import pytest
 from numba.core.errors import TypingError
 from numba.core.registry import CPUDispatcher
 
-from interfaces.jit import HAS_NRT_OPTION, NonLiteralDispatcher, njit
+from interfaces.jit import FMA, HAS_NRT_OPTION, NonLiteralDispatcher, njit
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -49,13 +49,20 @@ def test_a_function_that_needs_literal_arguments_still_compiles():
 
 
 def test_decorator_forms_and_options_are_numba_s():
-    @njit(cache=False, fastmath=True)
+    @njit(cache=False, fastmath=FMA)
     def f(a):
         return a.sum()
 
     assert isinstance(f, NonLiteralDispatcher) and isinstance(f, CPUDispatcher)
-    assert f.targetoptions["fastmath"]
+    assert f.targetoptions["fastmath"] == {"contract"}
     assert f(np.ones(3)) == 3.0
+
+
+@pytest.mark.parametrize("fastmath", [True, {"contract", "reassoc"}, {"fast"}])
+def test_fast_math_beyond_fused_multiply_add_is_refused(fastmath):
+    """Reassociation made a freshly compiled kernel and its cached copy differ."""
+    with pytest.raises(ValueError, match="fastmath=FMA"):
+        njit(cache=False, fastmath=fastmath)
 
 
 def test_every_kernel_module_uses_the_project_njit():
