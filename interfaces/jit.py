@@ -28,10 +28,10 @@ floating-point sums, and then a kernel compiled in the running process and the s
 kernel loaded from numba's cache gave different results: ellipse_compaction (0.025 mm,
 LR, CPDI + XPIC(5)) had positions 1e-15 mm apart after 2 % compression and 3.6e-13 mm
 after 10 %, which the jammed packing amplified into another final state, so the first run
-after the kernels compiled never matched the runs after it. Where the two differ (some
-callee optimised on its own in one and inside its caller in the other) was not traced;
-with reassociation off the two runs are bit-identical to the end of the 75 %
-compression. Cost on the uGIMP block of benchmarks/bench_mpm_xpic.py, against
+after the kernels compiled never matched the runs after it. Which function's two copies
+differ was not traced (a callee optimised on its own in one process and inside its
+caller in the other would do it); with reassociation off the two runs are bit-identical
+to the end of the 75 % compression. Cost on the uGIMP block of benchmarks/bench_mpm_xpic.py, against
 ``fastmath=True`` in the same run: 0.94-0.98 of its throughput (without any fast math
 0.82-0.88). :func:`njit` refuses other fast-math settings.
 """
