@@ -95,16 +95,21 @@ print(json.dumps({{"threads": numba.get_num_threads(), "x": m.particles.x.tolist
 """
 
 
+def _python(script: str, timeout: float, **env) -> str:
+    """Run ``script`` in a new Python process with ``env`` added; its standard output."""
+    res = subprocess.run([sys.executable, "-c", script], env=dict(os.environ, **env),
+                         capture_output=True, text=True, timeout=timeout)
+    assert res.returncode == 0, res.stderr[-2000:]
+    return res.stdout
+
+
 def test_mpm_parallel_blocks_independent_of_thread_count():
     """Same blocks on 1 and 2 threads: bit-identical (the block sums are added in
     block order, never in thread order)."""
     out = []
     for threads in (1, 2):
-        env = dict(os.environ, NUMBA_NUM_THREADS=str(threads))
-        res = subprocess.run([sys.executable, "-c", _THREADS_SCRIPT.format(root=str(ROOT))],
-                             env=env, capture_output=True, text=True, timeout=600)
-        assert res.returncode == 0, res.stderr[-2000:]
-        out.append(json.loads(res.stdout.strip().splitlines()[-1]))
+        stdout = _python(_THREADS_SCRIPT.format(root=str(ROOT)), 600, NUMBA_NUM_THREADS=str(threads))
+        out.append(json.loads(stdout.strip().splitlines()[-1]))
     assert [o["threads"] for o in out] == [1, 2]
     assert out[0]["x"] == out[1]["x"]
     assert out[0]["hist"] == out[1]["hist"]
@@ -131,15 +136,13 @@ def test_kernels_compiled_in_the_process_equal_their_cached_copies(tmp_path):
     (interfaces/jit.py, fast math: with reassociation they were 1.1e-15 mm apart here).
     004 Fig 6 at 0.025 mm to 2 % compression, LR, CPDI + XPIC(5): the chaotic packing
     carries any round-off difference on. Cold compile in a fresh cache folder: ~6 min."""
-    env = dict(os.environ, IMPERFECT_CACHE_DIR=str(tmp_path / "numba"))
-    env.pop("NUMBA_CACHE_DIR", None)
     loaded = []
     for which in ("compiled", "cached"):
-        out = tmp_path / f"{which}.npy"
-        res = subprocess.run([sys.executable, "-c", _CACHE_SCRIPT.format(root=str(ROOT), out=str(out))],
-                             env=env, capture_output=True, text=True, timeout=1800)
-        assert res.returncode == 0, res.stderr[-2000:]
-        loaded.append(tuple(int(k) for k in res.stdout.split()[-2:]))
+        script = _CACHE_SCRIPT.format(root=str(ROOT), out=str(tmp_path / f"{which}.npy"))
+        # NUMBA_CACHE_DIR empty counts as unset (numba and interfaces/numba_cache.py)
+        stdout = _python(script, 1800, IMPERFECT_CACHE_DIR=str(tmp_path / "numba"),
+                         NUMBA_CACHE_DIR="")
+        loaded.append(tuple(int(k) for k in stdout.split()[-2:]))
     assert loaded == [(0, 1), (1, 0)]     # the time step compiled, then loaded from the cache
     compiled, cached = (np.load(tmp_path / f"{which}.npy") for which in ("compiled", "cached"))
     assert np.array_equal(compiled, cached)
