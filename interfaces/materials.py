@@ -214,8 +214,9 @@ class TransverselyIsotropicElastic(Material):
             f = np.asarray(self.fiber, dtype=float)
         except (TypeError, ValueError):
             raise CaseError(f"fiber must be 2 or 3 numbers, got {self.fiber!r}") from None
-        if f.shape not in ((2,), (3,)) or not np.all(np.isfinite(f)) or np.linalg.norm(f) == 0:
+        if f.shape not in ((2,), (3,)) or not np.all(np.isfinite(f)) or not np.any(f):
             raise CaseError(f"fiber must be a non-zero vector of 2 or 3 finite numbers, got {self.fiber!r}")
+        f = f / np.abs(f).max()          # scaled first: the norm of (1e308, 1e308) overflows
         object.__setattr__(self, "fiber", tuple(float(x) for x in f / np.linalg.norm(f)))
 
     @property

@@ -62,16 +62,23 @@ _INF = math.inf
 
 
 def _named(fn: Callable) -> Callable:
-    """Prefix argument errors with ``analytic.`` so they name the case field."""
+    """Prefix argument errors with ``analytic.`` so they name the case field.
+
+    The closed form runs with numpy's floating-point errors raised: an overflow, a division
+    by zero or an undefined operation (inf - inf, 0 * inf) anywhere in its arrays becomes
+    the one-line error below, never an inf or NaN profile handed on in silence.
+    """
     @functools.wraps(fn)
     def wrapper(**params):
         try:
-            out = fn(**params)
+            with np.errstate(over="raise", divide="raise", invalid="raise"):
+                out = fn(**params)
         except TypeError as e:   # a table or list where a number or a name belongs
             raise CaseError(f"analytic: a parameter has the wrong type ({e}); parameters: "
                             f"{', '.join(f'{k} = {v!r}' for k, v in params.items() if not isinstance(v, (int, float, str)))}") from None
         except (OverflowError, ZeroDivisionError, FloatingPointError) as e:
-            raise CaseError(f"analytic: the closed form overflows for these parameters ({e}); "
+            raise CaseError(f"analytic: the closed form overflows or is undefined for these parameters "
+                            f"({e}); "
                             "check the magnitudes of the analytic.* lengths and moduli (mm, MPa)") from None
         except CaseError as e:
             msg = str(e)

@@ -166,3 +166,50 @@ def test_random_set_and_option_assignments(name, data, tmp_path, capsys):
         okey = data.draw(st.sampled_from(["profiles", "bogus", "Dt"]))
         argv += ["--option", f"analytic.{okey}={data.draw(_SET_VALUES)}"]
     _check_run(argv, tmp_path, capsys)
+
+
+#: magnitudes that pass a field's range check and may still overflow a closed form
+EXTREMES = [math.inf, -1.0, 0.0, 1e-300, 1e-30, 1e-6, 0.5, 1e6, 1e30, 1e308, -1e308, 1.7e308]
+
+
+def _numeric_paths(d: dict) -> list[tuple]:
+    out = []
+    for path in _leaf_paths(d):
+        v = d
+        for k in path:
+            v = v[k]
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            out.append(path)
+    return out
+
+
+@pytest.mark.parametrize("name", [n for n in NAMES if _DICTS[n].get("analytic")])
+def test_every_numeric_field_at_extreme_magnitudes_answers_or_refuses(name):
+    """Every number of the case set in turn to each of EXTREMES (not drawn at random: all of
+    them): the analytic method returns finite quantities or refuses with a CaseError, and
+    raises no numpy or scipy warning on the way (an overflow or an unconverged quadrature
+    is an answer nobody should trust; the random draws above met both)."""
+    import warnings
+
+    from cases.methods import run
+    from interfaces.case import Case
+    from interfaces.errors import CaseError
+
+    answered = 0
+    for path in _numeric_paths(_DICTS[name]):
+        for value in EXTREMES:
+            d = json.loads(json.dumps(_DICTS[name]))
+            parent = d
+            for k in path[:-1]:
+                parent = parent[k]
+            parent[path[-1]] = value
+            with warnings.catch_warnings():
+                warnings.simplefilter("error")
+                try:
+                    res = run(Case.from_dict(d), "analytic")
+                except CaseError:
+                    continue
+            answered += 1
+            bad = {q: v for q, v in res.quantities.items() if isinstance(v, float) and not math.isfinite(v)}
+            assert not bad, (path, value, bad)
+    assert answered > 0

@@ -135,6 +135,25 @@ def test_pulse_limits():
     assert pulse_transmission(1e9, 1e3, Z)["transmitted_energy"] < 1e-3
 
 
+@pytest.mark.parametrize("Z2_over_Z1", [1.0, 0.3])
+def test_pulse_transmission_at_extreme_interface_stiffness_reaches_its_limits(Z2_over_Z1):
+    """lambda/w from 1e-250 to 1e250 (the closed-form energies, no quadrature): no warning,
+    energy conserved, and the limits of a soft interface (nothing through) and of a stiff
+    one (the perfect interface's 4 Z1 Z2/(Z1 + Z2)^2, peak included)."""
+    import warnings
+    Z1, Z2 = Z, Z * Z2_over_Z1
+    perfect = 4.0 * Z1 * Z2 / (Z1 + Z2) ** 2
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for Dn in (1e-240, 1e-30, 1e30, 1e260):
+            out = pulse_transmission(F, Dn, Z1, Z2)
+            assert out["transmitted_energy"] + out["reflected_energy"] == pytest.approx(1.0, rel=1e-12)
+        soft, stiff = pulse_transmission(F, 1e-240, Z1, Z2), pulse_transmission(F, 1e260, Z1, Z2)
+    assert soft["transmitted_energy"] < 1e-200 and soft["peak_ratio_squared"] < 1e-200
+    assert stiff["transmitted_energy"] == pytest.approx(perfect, rel=1e-12)
+    assert stiff["peak_ratio_squared"] == pytest.approx(perfect, rel=1e-9)
+
+
 def test_bad_wave_inputs():
     with pytest.raises(CaseError, match="f must be > 0"):
         wave_transmission(0.0, 1.0, Z)

@@ -162,3 +162,21 @@ def test_a_tiny_ellipse_answers_without_overflow_warnings():
         warnings.simplefilter("error")
         assert tiny.contains(points).tolist() == [False, True, True]
         assert tiny.edge_mask(points, "boundary", 1e-9).tolist() == [False, False, True]
+
+
+def test_an_overflowing_closed_form_profile_is_refused_not_returned_as_inf():
+    """DCB profiles with W = 1e-300 mm and Dn = 1e30 MPa/mm pass the range checks; the
+    traction k1 v / W overflows (numpy gave inf with a RuntimeWarning). With h = 1e6 mm
+    and Dn = 1e-300, 0 * inf gave NaN. Both now end in the one-line CaseError."""
+    import warnings
+
+    from interfaces.analytic.registry import PROFILES
+
+    base = dict(a=20.0, h=5.0, W=2.0, E_xx=1e4, Dn=100.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for extreme in (dict(W=1e-300, Dn=1e30), dict(h=1e6, Dn=1e-300)):
+            with pytest.raises(CaseError, match="closed form overflows or is undefined"):
+                PROFILES["dcb_beam_foundation"](**{**base, **extreme})
+        import numpy as np
+        assert np.isfinite(PROFILES["dcb_beam_foundation"](**base)["interface_jump"]["traction_n"]).all()
