@@ -119,7 +119,7 @@ def main() -> None:
     if not runs:
         raise SystemExit("no run finished: " + "; ".join(failed.values()))
     # the compacted boxes (1 x 0.5 mm) one above the other beside the stress histories
-    fig, axes = plt.subplot_mosaic([["stress", c] for c in contacts], figsize=(11.5, 1.2 + 2.8 * len(contacts)),
+    fig, axes = plt.subplot_mosaic([["stress", c] for c in contacts], figsize=(11.5, 1.2 + 3.0 * len(contacts)),
                                    width_ratios=[1.2, 1])
     rows = ["contact,three_material,cell_mm,options,final_strain,final_stress_GPa,interpenetration,"
             "cut_off,particles,area_over_box,wall_s,cpu_s"]
