@@ -188,7 +188,7 @@ def test_every_numeric_field_at_extreme_magnitudes_answers_or_refuses(name):
     """Every number of the case set in turn to each of EXTREMES (not drawn at random: all of
     them): the analytic method returns finite quantities or refuses with a CaseError, and
     raises no numpy or scipy warning on the way (an overflow or an unconverged quadrature
-    is an answer nobody should trust; the random draws above met both)."""
+    is an answer nobody should trust; the random draws above once met the first)."""
     import warnings
 
     from cases.methods import run

@@ -170,6 +170,8 @@ def test_an_overflowing_closed_form_profile_is_refused_not_returned_as_inf():
     and Dn = 1e-300, 0 * inf gave NaN. Both now end in the one-line CaseError."""
     import warnings
 
+    import numpy as np
+
     from interfaces.analytic.registry import PROFILES
 
     base = dict(a=20.0, h=5.0, W=2.0, E_xx=1e4, Dn=100.0)
@@ -178,5 +180,4 @@ def test_an_overflowing_closed_form_profile_is_refused_not_returned_as_inf():
         for extreme in (dict(W=1e-300, Dn=1e30), dict(h=1e6, Dn=1e-300)):
             with pytest.raises(CaseError, match="closed form overflows or is undefined"):
                 PROFILES["dcb_beam_foundation"](**{**base, **extreme})
-        import numpy as np
         assert np.isfinite(PROFILES["dcb_beam_foundation"](**base)["interface_jump"]["traction_n"]).all()
